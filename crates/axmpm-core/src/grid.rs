@@ -1,0 +1,96 @@
+//! The dense rectangular background grid: geometry and nodal fields.
+//!
+//! Nodes are numbered row by row, `node = j * nodes_x + i`, with node (i, j) at
+//! `origin + (i h, j h)`. All nodal quantities are per unit thickness (plane strain) or per
+//! radian (axisymmetric), so the nodal equation of motion a = f / m is the same in both.
+
+/// Geometry of the grid; cheap to copy into the inner loops.
+#[derive(Clone, Copy, Debug)]
+pub struct GridGeometry {
+    pub origin: [f64; 2],
+    pub cell_size: f64,
+    pub inverse_cell_size: f64,
+    pub cells: [usize; 2],
+    pub nodes: [usize; 2],
+}
+
+impl GridGeometry {
+    pub fn new(origin: [f64; 2], extent: [f64; 2], cell_size: f64) -> Self {
+        let cells = [(extent[0] / cell_size).round() as usize, (extent[1] / cell_size).round() as usize];
+        Self { origin, cell_size, inverse_cell_size: 1.0 / cell_size, cells, nodes: [cells[0] + 1, cells[1] + 1] }
+    }
+
+    #[inline(always)]
+    pub fn num_nodes(&self) -> usize {
+        self.nodes[0] * self.nodes[1]
+    }
+
+    #[inline(always)]
+    pub fn node_index(&self, i: usize, j: usize) -> usize {
+        j * self.nodes[0] + i
+    }
+
+    #[inline(always)]
+    pub fn node_position(&self, node: usize) -> [f64; 2] {
+        let i = node % self.nodes[0];
+        let j = node / self.nodes[0];
+        [self.origin[0] + i as f64 * self.cell_size, self.origin[1] + j as f64 * self.cell_size]
+    }
+
+    /// Upper corner of the grid.
+    #[inline(always)]
+    pub fn upper(&self) -> [f64; 2] {
+        [
+            self.origin[0] + self.cells[0] as f64 * self.cell_size,
+            self.origin[1] + self.cells[1] as f64 * self.cell_size,
+        ]
+    }
+
+    /// Whether a point lies inside the grid (closed box).
+    #[inline(always)]
+    pub fn contains(&self, x: [f64; 2]) -> bool {
+        let u = self.upper();
+        x[0] >= self.origin[0] && x[1] >= self.origin[1] && x[0] <= u[0] && x[1] <= u[1]
+    }
+
+    /// Position in cell units relative to the origin.
+    #[inline(always)]
+    pub fn local(&self, x: [f64; 2]) -> [f64; 2] {
+        [(x[0] - self.origin[0]) * self.inverse_cell_size, (x[1] - self.origin[1]) * self.inverse_cell_size]
+    }
+
+    /// Cell containing a point, clamped to the grid.
+    #[inline(always)]
+    pub fn cell_of(&self, x: [f64; 2]) -> [usize; 2] {
+        let l = self.local(x);
+        [
+            (l[0].floor().max(0.0) as usize).min(self.cells[0] - 1),
+            (l[1].floor().max(0.0) as usize).min(self.cells[1] - 1),
+        ]
+    }
+}
+
+/// Nodal fields of one step.
+#[derive(Clone, Debug)]
+pub struct GridFields {
+    pub mass: Vec<f64>,
+    pub momentum: Vec<[f64; 2]>,
+    /// Internal plus external force.
+    pub force: Vec<[f64; 2]>,
+    /// Velocity at the start of the step (momentum / mass, boundary conditions applied).
+    pub velocity: Vec<[f64; 2]>,
+    /// Velocity after the momentum update (and after the MUSL re-map, once done).
+    pub velocity_new: Vec<[f64; 2]>,
+}
+
+impl GridFields {
+    pub fn new(num_nodes: usize) -> Self {
+        Self {
+            mass: vec![0.0; num_nodes],
+            momentum: vec![[0.0; 2]; num_nodes],
+            force: vec![[0.0; 2]; num_nodes],
+            velocity: vec![[0.0; 2]; num_nodes],
+            velocity_new: vec![[0.0; 2]; num_nodes],
+        }
+    }
+}

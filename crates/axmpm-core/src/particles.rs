@@ -1,0 +1,103 @@
+//! Material points in structure-of-arrays layout.
+//!
+//! Volumes and masses are per unit thickness in plane strain and per radian in axisymmetry
+//! (V_p = A_p R_p, m_p = ρ_p A_p R_p; Sulsky & Schreyer 1996).
+
+use serde::{Deserialize, Serialize};
+
+/// Deformation gradient stored as `[F11, F12, F21, F22, F33]`; F33 is the hoop stretch
+/// (axisymmetric) or 1 (plane strain).
+pub type DeformationGradient = [f64; 5];
+
+/// Stress `[σ11, σ22, σ33, σ12]`: `[xx, yy, zz, xy]` in plane strain, `[rr, zz, θθ, rz]` in
+/// axisymmetry. Tension positive, Pa.
+pub type Stress = [f64; 4];
+
+pub const IDENTITY_F: DeformationGradient = [1.0, 0.0, 0.0, 1.0, 1.0];
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct Particles {
+    pub position: Vec<[f64; 2]>,
+    pub velocity: Vec<[f64; 2]>,
+    pub mass: Vec<f64>,
+    pub initial_volume: Vec<f64>,
+    pub volume: Vec<f64>,
+    pub initial_position: Vec<[f64; 2]>,
+    pub deformation_gradient: Vec<DeformationGradient>,
+    pub stress: Vec<Stress>,
+    pub material: Vec<u32>,
+    /// Initial half-widths of the particle domain (GIMP family; CPDI uses them to build corners).
+    pub initial_half_width: Vec<[f64; 2]>,
+    /// Corners of the particle domain, counter-clockwise (CPDI2 only; empty otherwise).
+    pub corners: Vec<[[f64; 2]; 4]>,
+    /// Per-material state variables, `state_stride` values per particle.
+    pub state: Vec<f64>,
+    pub state_stride: usize,
+}
+
+impl Particles {
+    #[inline(always)]
+    pub fn len(&self) -> usize {
+        self.position.len()
+    }
+
+    #[inline(always)]
+    pub fn is_empty(&self) -> bool {
+        self.position.is_empty()
+    }
+
+    /// Appends one particle with zero state and identity deformation.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(
+        &mut self,
+        position: [f64; 2],
+        velocity: [f64; 2],
+        mass: f64,
+        volume: f64,
+        half_width: [f64; 2],
+        stress: Stress,
+        material: u32,
+    ) {
+        self.position.push(position);
+        self.velocity.push(velocity);
+        self.mass.push(mass);
+        self.initial_volume.push(volume);
+        self.volume.push(volume);
+        self.initial_position.push(position);
+        self.deformation_gradient.push(IDENTITY_F);
+        self.stress.push(stress);
+        self.material.push(material);
+        self.initial_half_width.push(half_width);
+        self.state.extend(std::iter::repeat(0.0).take(self.state_stride));
+    }
+
+    /// Rectangular domain corners from the centre and half-widths, counter-clockwise from the
+    /// lower left.
+    pub fn rectangle_corners(x: [f64; 2], half: [f64; 2]) -> [[f64; 2]; 4] {
+        [
+            [x[0] - half[0], x[1] - half[1]],
+            [x[0] + half[0], x[1] - half[1]],
+            [x[0] + half[0], x[1] + half[1]],
+            [x[0] - half[0], x[1] + half[1]],
+        ]
+    }
+
+    /// Bytes held per particle by the arrays above (for the benchmark's memory figure).
+    pub fn bytes_per_particle(&self) -> usize {
+        let n = self.len().max(1);
+        let f = std::mem::size_of::<f64>();
+        let total = self.position.capacity() * 2 * f
+            + self.velocity.capacity() * 2 * f
+            + self.mass.capacity() * f
+            + self.initial_volume.capacity() * f
+            + self.volume.capacity() * f
+            + self.initial_position.capacity() * 2 * f
+            + self.deformation_gradient.capacity() * 5 * f
+            + self.stress.capacity() * 4 * f
+            + self.material.capacity() * 4
+            + self.initial_half_width.capacity() * 2 * f
+            + self.corners.capacity() * 8 * f
+            + self.state.capacity() * f;
+        total / n
+    }
+}

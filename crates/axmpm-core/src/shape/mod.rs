@@ -1,0 +1,185 @@
+//! Interpolation schemes: the weights S_ip and gradients ∇S_ip that connect particle p to the
+//! grid nodes i (PHYSICS.md §3).
+//!
+//! Each scheme is a zero-sized type implementing [`ShapeFunction`]; the solver is generic over
+//! it, so the inner loops are compiled once per scheme. A scheme writes a [`Stencil`]: a short
+//! list of (node, weight, gradient) entries. Entries may repeat a node (CPDI2 sums corner
+//! contributions); every consumer simply accumulates, so repeats are harmless.
+//!
+//! Truncation rules shared by all schemes:
+//! - nodes outside the grid are dropped (a particle domain reaching past the grid edge loses
+//!   that part of its weight; bodies should keep one cell away from open edges);
+//! - in axisymmetry a particle domain never reaches r < 0: GIMP schemes shrink the radial
+//!   half-width to R_p, CPDI2 clamps corners to r ≥ 0.
+
+use crate::grid::GridGeometry;
+use crate::particles::Particles;
+
+pub mod cpdi2;
+pub mod cpgimp;
+pub mod linear;
+pub mod ugimp;
+
+pub use cpdi2::Cpdi2;
+pub use cpgimp::CpGimp;
+pub use linear::Linear;
+pub use ugimp::UGimp;
+
+/// Largest number of entries any scheme writes (CPDI2: 4 corners × 4 nodes).
+pub const MAX_STENCIL: usize = 16;
+
+/// Weights and gradients of one particle on its nodes.
+#[derive(Clone, Copy, Debug)]
+pub struct Stencil {
+    pub len: usize,
+    pub node: [u32; MAX_STENCIL],
+    pub weight: [f64; MAX_STENCIL],
+    pub gradient: [[f64; 2]; MAX_STENCIL],
+}
+
+impl Default for Stencil {
+    fn default() -> Self {
+        Self { len: 0, node: [0; MAX_STENCIL], weight: [0.0; MAX_STENCIL], gradient: [[0.0; 2]; MAX_STENCIL] }
+    }
+}
+
+impl Stencil {
+    #[inline(always)]
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+
+    #[inline(always)]
+    pub fn push(&mut self, node: usize, weight: f64, gradient: [f64; 2]) {
+        debug_assert!(self.len < MAX_STENCIL);
+        self.node[self.len] = node as u32;
+        self.weight[self.len] = weight;
+        self.gradient[self.len] = gradient;
+        self.len += 1;
+    }
+
+    /// Σ_i S_ip, 1 wherever the particle's support lies inside the grid (partition of unity).
+    pub fn weight_sum(&self) -> f64 {
+        self.weight[..self.len].iter().sum()
+    }
+
+    /// Σ_i ∇S_ip, zero wherever partition of unity holds.
+    pub fn gradient_sum(&self) -> [f64; 2] {
+        let mut g = [0.0; 2];
+        for k in 0..self.len {
+            g[0] += self.gradient[k][0];
+            g[1] += self.gradient[k][1];
+        }
+        g
+    }
+}
+
+/// An interpolation scheme.
+pub trait ShapeFunction: Send + Sync + 'static {
+    /// Name selected by `simulation.shape_function`.
+    const NAME: &'static str;
+    /// Whether particles carry domain corners that move with the grid (CPDI2).
+    const USES_CORNERS: bool = false;
+
+    /// Writes S_ip and ∇S_ip of particle `p` into `out` (cleared first).
+    /// `axisymmetric` asks for domains truncated at the axis r = 0.
+    fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil);
+
+    /// In-plane area of the particle domain when the scheme tracks it (CPDI2: the
+    /// quadrilateral's area); `None` means the area follows from the deformation gradient.
+    #[inline(always)]
+    fn domain_area(_particles: &Particles, _p: usize) -> Option<f64> {
+        None
+    }
+
+    /// Moves the domain corners with the nodal velocity field (CPDI2 only).
+    #[inline(always)]
+    fn advect_corners(
+        _grid: &GridGeometry,
+        _nodal_velocity: &[[f64; 2]],
+        _dt: f64,
+        _corners: &mut [[f64; 2]; 4],
+        _axisymmetric: bool,
+    ) {
+    }
+}
+
+/// 1D linear hat N(ξ) = 1 − |ξ|/h and its derivative, with ξ in cell units (so the
+/// derivative is returned per unit cell and must be multiplied by 1/h).
+#[inline(always)]
+pub fn hat(xi: f64) -> (f64, f64) {
+    let a = xi.abs();
+    if a >= 1.0 {
+        (0.0, 0.0)
+    } else {
+        (1.0 - a, if xi >= 0.0 { -1.0 } else { 1.0 })
+    }
+}
+
+/// Linear (bilinear in 2D) weights of a point on the 4 nodes of its cell, with gradients in
+/// physical units. Nodes outside the grid are skipped. Shared by the original MPM and by the
+/// corner evaluation of CPDI2.
+#[inline(always)]
+pub fn bilinear_nodes(grid: &GridGeometry, x: [f64; 2], mut visit: impl FnMut(usize, f64, [f64; 2])) {
+    let l = grid.local(x);
+    let ci = l[0].floor();
+    let cj = l[1].floor();
+    let fx = l[0] - ci;
+    let fy = l[1] - cj;
+    let ih = grid.inverse_cell_size;
+    let wx = [1.0 - fx, fx];
+    let wy = [1.0 - fy, fy];
+    let dx = [-ih, ih];
+    for b in 0..2 {
+        let j = cj as i64 + b as i64;
+        if j < 0 || j >= grid.nodes[1] as i64 {
+            continue;
+        }
+        for a in 0..2 {
+            let i = ci as i64 + a as i64;
+            if i < 0 || i >= grid.nodes[0] as i64 {
+                continue;
+            }
+            let node = grid.node_index(i as usize, j as usize);
+            visit(node, wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod testing {
+    //! Helpers shared by the per-scheme unit tests.
+    use super::*;
+    use crate::particles::IDENTITY_F;
+
+    pub fn grid() -> GridGeometry {
+        GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.1)
+    }
+
+    /// One particle at `x` with half-widths `half` and rectangular corners.
+    pub fn single_particle(x: [f64; 2], half: [f64; 2]) -> Particles {
+        let mut p = Particles::default();
+        p.push(x, [0.0; 2], 1.0, 4.0 * half[0] * half[1], half, [0.0; 4], 0);
+        p.corners.push(Particles::rectangle_corners(x, half));
+        p.deformation_gradient[0] = IDENTITY_F;
+        p
+    }
+
+    /// Asserts partition of unity and Σ∇S = 0 for scheme `S` at many positions inside the grid.
+    pub fn check_partition_of_unity<S: ShapeFunction>(half: [f64; 2], axisymmetric: bool) {
+        let g = grid();
+        let mut st = Stencil::default();
+        let mut k = 0;
+        for a in 0..37 {
+            for b in 0..37 {
+                let x = [0.15 + 0.7 * a as f64 / 36.0 + 1e-3 * k as f64 % 0.01, 0.15 + 0.7 * b as f64 / 36.0];
+                k += 1;
+                let p = single_particle(x, half);
+                S::stencil(&g, &p, 0, axisymmetric, &mut st);
+                assert!((st.weight_sum() - 1.0).abs() < 1e-12, "{}: ΣS = {} at {:?}", S::NAME, st.weight_sum(), x);
+                let gs = st.gradient_sum();
+                assert!(gs[0].abs() < 1e-10 && gs[1].abs() < 1e-10, "{}: Σ∇S = {:?} at {:?}", S::NAME, gs, x);
+            }
+        }
+    }
+}

@@ -1,0 +1,323 @@
+//! The public face of the engine: a [`Simulation`] built from a [`Config`], advanced in time,
+//! inspected, checkpointed.
+
+use serde::{Deserialize, Serialize};
+
+use crate::boundary::Constraints;
+use crate::config::{Config, FormulationKind, ShapeFunctionKind};
+use crate::formulation::{Axisymmetric, Formulation, PlaneStrain};
+use crate::grid::{GridFields, GridGeometry};
+use crate::material::{self, Material};
+use crate::particles::Particles;
+use crate::setup::create_particles;
+use crate::shape::{CpGimp, Cpdi2, Linear, ShapeFunction, UGimp};
+use crate::solver::{self, Failure, Scratch, State, StepParameters};
+
+type StepFn = fn(&mut State, f64, [f64; 2]) -> Result<(), Failure>;
+
+/// A run that produced an invalid state (NaN, particle outside the grid, inverted element).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimulationFailure {
+    pub message: String,
+    pub time: f64,
+    pub steps: u64,
+}
+
+impl std::fmt::Display for SimulationFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "step {} (t = {:.6e} s): {}", self.steps, self.time, self.message)
+    }
+}
+
+impl std::error::Error for SimulationFailure {}
+
+/// Energies of the whole body: J for the body of revolution (axisymmetric, per-radian sums
+/// × 2π) or J per metre thickness (plane strain).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energies {
+    /// Σ ½ m_p |v_p|².
+    pub kinetic_energy: f64,
+    /// Work done by the full gravity on the displacements, Σ m_p g·(x_p − X_p).
+    pub gravity_work: f64,
+}
+
+/// Checkpoint contents; everything else is rebuilt from the configuration.
+#[derive(Serialize, Deserialize)]
+struct Checkpoint {
+    format: u32,
+    config: Config,
+    particles: Particles,
+    time: f64,
+    steps: u64,
+}
+
+const CHECKPOINT_FORMAT: u32 = 1;
+
+pub struct Simulation {
+    config: Config,
+    state: State,
+    material_names: Vec<String>,
+    state_names: Vec<String>,
+    dt: f64,
+    step_fn: StepFn,
+    pool: rayon::ThreadPool,
+    failure: Option<SimulationFailure>,
+}
+
+fn select_step(formulation: FormulationKind, shape: ShapeFunctionKind) -> StepFn {
+    fn pick<F: Formulation>(shape: ShapeFunctionKind) -> StepFn {
+        match shape {
+            ShapeFunctionKind::Linear => solver::step::<F, Linear>,
+            ShapeFunctionKind::Ugimp => solver::step::<F, UGimp>,
+            ShapeFunctionKind::Cpgimp => solver::step::<F, CpGimp>,
+            ShapeFunctionKind::Cpdi2 => solver::step::<F, Cpdi2>,
+        }
+    }
+    match formulation {
+        FormulationKind::PlaneStrain => pick::<PlaneStrain>(shape),
+        FormulationKind::Axisymmetric => pick::<Axisymmetric>(shape),
+    }
+}
+
+fn uses_corners(shape: ShapeFunctionKind) -> bool {
+    match shape {
+        ShapeFunctionKind::Linear => Linear::USES_CORNERS,
+        ShapeFunctionKind::Ugimp => UGimp::USES_CORNERS,
+        ShapeFunctionKind::Cpgimp => CpGimp::USES_CORNERS,
+        ShapeFunctionKind::Cpdi2 => Cpdi2::USES_CORNERS,
+    }
+}
+
+impl Simulation {
+    /// Builds a run from the resolved scenario JSON (see `docs/architecture.md`).
+    pub fn from_json(json: &str, threads: usize) -> Result<Self, String> {
+        Self::new(Config::from_json(json)?, threads)
+    }
+
+    /// Builds a run. `threads` = 0 uses every core; results do not depend on it.
+    pub fn new(config: Config, threads: usize) -> Result<Self, String> {
+        Self::build(config, threads, None)
+    }
+
+    fn build(config: Config, threads: usize, restored: Option<(Particles, f64, u64)>) -> Result<Self, String> {
+        config.validate()?;
+        let material_names: Vec<String> = config.materials.keys().cloned().collect();
+        let materials: Vec<Box<dyn Material>> = config
+            .materials
+            .iter()
+            .map(|(name, m)| material::build(name, m))
+            .collect::<Result<_, _>>()?;
+        let mut state_names: Vec<String> = Vec::new();
+        for m in &materials {
+            for n in m.state_names() {
+                if !state_names.iter().any(|s| s == n) {
+                    state_names.push((*n).to_string());
+                }
+            }
+        }
+        let stride = materials.iter().map(|m| m.state_names().len()).max().unwrap_or(0).max(1);
+        let g = &config.grid;
+        let grid = GridGeometry::new(g.origin, g.extent, g.cell_size);
+        let s = &config.simulation;
+        let axisymmetric = s.formulation == FormulationKind::Axisymmetric;
+        let with_corners = uses_corners(s.shape_function);
+        let (particles, time, steps) = match restored {
+            Some(r) => r,
+            None => {
+                let particles = match s.formulation {
+                    FormulationKind::PlaneStrain => {
+                        create_particles::<PlaneStrain>(&config, &grid, &materials, &material_names, stride, with_corners)
+                    }
+                    FormulationKind::Axisymmetric => {
+                        create_particles::<Axisymmetric>(&config, &grid, &materials, &material_names, stride, with_corners)
+                    }
+                };
+                (particles, 0.0, 0)
+            }
+        };
+        if particles.is_empty() {
+            return Err("bodies: no particle was created (is every body at least one cell in size?)".into());
+        }
+        let used: Vec<bool> =
+            (0..materials.len()).map(|m| particles.material.iter().any(|&id| id as usize == m)).collect();
+        let wave_speed = materials
+            .iter()
+            .zip(&used)
+            .filter(|(_, &u)| u)
+            .map(|(m, _)| m.wave_speed())
+            .fold(0.0_f64, f64::max);
+        let dt = if s.time_step > 0.0 { s.time_step } else { s.cfl * g.cell_size / wave_speed };
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(format!("time step {dt} is not positive; check the materials' stiffness and density"));
+        }
+        let mean_mass = particles.mass.iter().sum::<f64>() / particles.len() as f64;
+        let parameters = StepParameters {
+            flip_fraction: s.flip_fraction,
+            damping: s.damping,
+            scheme: s.update_scheme,
+            mass_threshold: 1e-9 * mean_mass,
+        };
+        let constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
+        let mut state = State {
+            grid,
+            fields: GridFields::new(grid.num_nodes()),
+            lanes: Vec::new(),
+            scratch: Scratch::default(),
+            particles,
+            materials,
+            constraints,
+            parameters,
+            time,
+            steps,
+        };
+        state.allocate_scratch();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| format!("could not start {threads} threads: {e}"))?;
+        let step_fn = select_step(s.formulation, s.shape_function);
+        Ok(Self { config, state, material_names, state_names, dt, step_fn, pool, failure: None })
+    }
+
+    /// Gravity at the current time: ramped linearly from zero over `gravity_ramp_time`.
+    pub fn gravity(&self) -> [f64; 2] {
+        let s = &self.config.simulation;
+        let factor = if s.gravity_ramp_time > 0.0 { (self.state.time / s.gravity_ramp_time).min(1.0) } else { 1.0 };
+        [s.gravity[0] * factor, s.gravity[1] * factor]
+    }
+
+    /// Advances to time `until` (the last step shortened to land on it exactly) or by
+    /// `max_steps` steps, whichever comes first. Returns the number of steps taken.
+    pub fn advance(&mut self, until: f64, max_steps: u64) -> Result<u64, SimulationFailure> {
+        if let Some(f) = &self.failure {
+            return Err(f.clone());
+        }
+        let mut taken = 0;
+        while taken < max_steps {
+            let remaining = until - self.state.time;
+            if remaining <= 0.0 {
+                break;
+            }
+            // Land on `until` without a sliver step: the last one or two steps share the rest.
+            let (dt, lands) = if remaining <= self.dt {
+                (remaining, true)
+            } else if remaining < 2.0 * self.dt {
+                (0.5 * remaining, false)
+            } else {
+                (self.dt, false)
+            };
+            let gravity = self.gravity();
+            let step_fn = self.step_fn;
+            let state = &mut self.state;
+            let result = self.pool.install(|| step_fn(state, dt, gravity));
+            if lands {
+                self.state.time = until;
+            }
+            taken += 1;
+            if let Err(failure) = result {
+                let f = SimulationFailure { message: failure.message(), time: self.state.time, steps: self.state.steps };
+                self.failure = Some(f.clone());
+                return Err(f);
+            }
+        }
+        Ok(taken)
+    }
+
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+    pub fn particles(&self) -> &Particles {
+        &self.state.particles
+    }
+    pub fn grid(&self) -> &GridGeometry {
+        &self.state.grid
+    }
+    pub fn grid_fields(&self) -> &GridFields {
+        &self.state.fields
+    }
+    pub fn time(&self) -> f64 {
+        self.state.time
+    }
+    pub fn steps(&self) -> u64 {
+        self.state.steps
+    }
+    /// Nominal time step (s).
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+    pub fn material_names(&self) -> &[String] {
+        &self.material_names
+    }
+    pub fn state_names(&self) -> &[String] {
+        &self.state_names
+    }
+    pub fn failure(&self) -> Option<&SimulationFailure> {
+        self.failure.as_ref()
+    }
+
+    /// Per-particle state as rows of `state_names()` values (0 where a particle's material
+    /// does not have that variable).
+    pub fn state_table(&self) -> Vec<f64> {
+        let p = &self.state.particles;
+        let cols = self.state_names.len();
+        let mut out = vec![0.0; p.len() * cols];
+        let columns: Vec<Vec<usize>> = self
+            .state
+            .materials
+            .iter()
+            .map(|m| m.state_names().iter().map(|n| self.state_names.iter().position(|s| s == n).unwrap()).collect())
+            .collect();
+        let stride = p.state_stride;
+        for i in 0..p.len() {
+            for (k, &c) in columns[p.material[i] as usize].iter().enumerate() {
+                out[i * cols + c] = p.state[i * stride + k];
+            }
+        }
+        out
+    }
+
+    /// Kinetic energy and work of gravity, summed in particle order (deterministic).
+    pub fn energies(&self) -> Energies {
+        let p = &self.state.particles;
+        let g = self.config.simulation.gravity;
+        let mut e = Energies::default();
+        for i in 0..p.len() {
+            let v = p.velocity[i];
+            e.kinetic_energy += 0.5 * p.mass[i] * (v[0] * v[0] + v[1] * v[1]);
+            let x = p.position[i];
+            let x0 = p.initial_position[i];
+            e.gravity_work += p.mass[i] * (g[0] * (x[0] - x0[0]) + g[1] * (x[1] - x0[1]));
+        }
+        let total = match self.config.simulation.formulation {
+            FormulationKind::PlaneStrain => PlaneStrain::TOTAL_FACTOR,
+            FormulationKind::Axisymmetric => Axisymmetric::TOTAL_FACTOR,
+        };
+        e.kinetic_energy *= total;
+        e.gravity_work *= total;
+        e
+    }
+
+    /// Serialises everything needed to continue the run bit for bit.
+    pub fn to_bytes(&self) -> Result<Vec<u8>, String> {
+        let checkpoint = Checkpoint {
+            format: CHECKPOINT_FORMAT,
+            config: self.config.clone(),
+            particles: self.state.particles.clone(),
+            time: self.state.time,
+            steps: self.state.steps,
+        };
+        serde_json::to_vec(&checkpoint).map_err(|e| format!("checkpoint: {e}"))
+    }
+
+    /// Restores a run written by [`Simulation::to_bytes`].
+    pub fn from_bytes(data: &[u8], threads: usize) -> Result<Self, String> {
+        let c: Checkpoint = serde_json::from_slice(data).map_err(|e| format!("not a readable axmpm checkpoint: {e}"))?;
+        if c.format != CHECKPOINT_FORMAT {
+            return Err(format!("checkpoint format {} is not supported (expected {CHECKPOINT_FORMAT})", c.format));
+        }
+        Self::build(c.config, threads, Some((c.particles, c.time, c.steps)))
+    }
+}

@@ -1,0 +1,421 @@
+//! One explicit MPM step (PHYSICS.md §1), generic over the formulation `F` and the
+//! interpolation scheme `S`, so that each of the eight combinations is its own monomorphised
+//! loop.
+//!
+//! Order of operations (MUSL, Sulsky, Zhou & Schreyer 1995; USL skips step 4):
+//! 1. particle → grid: mass, momentum, internal force −Σ V_p σ_p·∇S_ip (with the hoop term
+//!    −V_p σ_θθ S_ip/R_p in axisymmetry) and gravity Σ S_ip m_p g;
+//! 2. grid: v = p/m, Cundall local damping f ← f − α|f| sign(v), v⁺ = v + Δt f/m, constraints;
+//! 3. grid → particle: v_p ← FLIP·(v_p + Σ S (v⁺ − v)) + (1 − FLIP)·Σ S v⁺, Δx_p = Δt Σ S v⁺;
+//! 4. MUSL: momentum re-mapped to the grid from the new particle velocities, constraints;
+//! 5. strain update: L = Σ v_i ⊗ ∇S_ip (+ L_θθ = Σ v_r,i S_ip/R_p), F ← (I + Δt L) F,
+//!    volume, stress by the material; then positions move by Δx_p and CPDI corners with v⁺.
+//!
+//! Race freedom and determinism: particle → grid scatters into a fixed number of lanes
+//! ([`LANES`], independent of the thread count), each lane a contiguous range of particles
+//! summed in particle order into its own nodal buffers; the lanes are then added node by node
+//! in lane order. Every other pass writes only its own particle or node. Results are
+//! therefore bit-for-bit identical for any number of threads.
+
+use rayon::prelude::*;
+
+use crate::boundary::Constraints;
+use crate::config::UpdateScheme;
+use crate::formulation::Formulation;
+use crate::grid::{GridFields, GridGeometry};
+use crate::material::{Kinematics, Material};
+use crate::particles::Particles;
+use crate::shape::{ShapeFunction, Stencil};
+
+/// Number of particle ranges scattered independently in particle → grid.
+pub const LANES: usize = 8;
+
+/// Nodal buffers of one lane.
+#[derive(Clone, Debug)]
+pub struct Lane {
+    pub mass: Vec<f64>,
+    pub momentum: Vec<[f64; 2]>,
+    pub force: Vec<[f64; 2]>,
+}
+
+impl Lane {
+    fn new(num_nodes: usize) -> Self {
+        Self { mass: vec![0.0; num_nodes], momentum: vec![[0.0; 2]; num_nodes], force: vec![[0.0; 2]; num_nodes] }
+    }
+}
+
+/// Per-particle scratch arrays reused every step (no allocation in the step loop).
+#[derive(Clone, Debug, Default)]
+pub struct Scratch {
+    pub velocity: Vec<[f64; 2]>,
+    pub displacement: Vec<[f64; 2]>,
+    pub velocity_gradient: Vec<[f64; 5]>,
+    pub area: Vec<f64>,
+}
+
+/// Parameters of the step that do not change during a run.
+#[derive(Clone, Copy, Debug)]
+pub struct StepParameters {
+    pub flip_fraction: f64,
+    pub damping: f64,
+    pub scheme: UpdateScheme,
+    /// Nodes lighter than this carry no velocity (avoids dividing by vanishing GIMP masses).
+    pub mass_threshold: f64,
+}
+
+/// Everything the step mutates or reads.
+pub struct State {
+    pub grid: GridGeometry,
+    pub fields: GridFields,
+    pub lanes: Vec<Lane>,
+    pub scratch: Scratch,
+    pub particles: Particles,
+    pub materials: Vec<Box<dyn Material>>,
+    pub constraints: Constraints,
+    pub parameters: StepParameters,
+    pub time: f64,
+    pub steps: u64,
+}
+
+/// Why a step produced an invalid state, for the first offending particle (lowest index).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Failure {
+    NotFinite { particle: usize },
+    LeftGrid { particle: usize, position: [f64; 2] },
+    InvertedJacobian { particle: usize, jacobian: f64 },
+}
+
+impl Failure {
+    fn particle(&self) -> usize {
+        match self {
+            Failure::NotFinite { particle }
+            | Failure::LeftGrid { particle, .. }
+            | Failure::InvertedJacobian { particle, .. } => *particle,
+        }
+    }
+
+    pub fn message(&self) -> String {
+        match self {
+            Failure::NotFinite { particle } => {
+                format!("particle {particle}: position, velocity or stress is not finite (NaN or infinite)")
+            }
+            Failure::LeftGrid { particle, position } => format!(
+                "particle {particle} left the grid at ({:.6e}, {:.6e}); enlarge grid.extent",
+                position[0], position[1]
+            ),
+            Failure::InvertedJacobian { particle, jacobian } => {
+                format!("particle {particle}: deformation gradient inverted (J = {jacobian:.3e})")
+            }
+        }
+    }
+}
+
+fn first_failure(a: Option<Failure>, b: Option<Failure>) -> Option<Failure> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(if a.particle() <= b.particle() { a } else { b }),
+        (a, None) => a,
+        (None, b) => b,
+    }
+}
+
+impl State {
+    pub fn allocate_scratch(&mut self) {
+        let n = self.particles.len();
+        self.scratch.velocity = vec![[0.0; 2]; n];
+        self.scratch.displacement = vec![[0.0; 2]; n];
+        self.scratch.velocity_gradient = vec![[0.0; 5]; n];
+        self.scratch.area = vec![0.0; n];
+        self.lanes = (0..LANES).map(|_| Lane::new(self.grid.num_nodes())).collect();
+    }
+}
+
+/// Particle index range of lane `k`.
+#[inline(always)]
+fn lane_range(k: usize, n: usize) -> std::ops::Range<usize> {
+    (k * n / LANES)..((k + 1) * n / LANES)
+}
+
+/// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
+/// any (the state is then left as computed, for inspection).
+pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
+    particle_to_grid::<F, S>(state, gravity, true);
+    update_grid(state, dt);
+    grid_to_particle::<F, S>(state, dt);
+    if state.parameters.scheme == UpdateScheme::Musl {
+        particle_to_grid::<F, S>(state, gravity, false);
+        remap_velocity(state);
+    }
+    let result = update_particles::<F, S>(state, dt);
+    state.time += dt;
+    state.steps += 1;
+    result
+}
+
+/// Scatters mass and momentum (and, when `with_force`, internal and gravity forces) to the
+/// nodes, lane by lane, then sums the lanes in a fixed order.
+fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], with_force: bool) {
+    let particles = &state.particles;
+    let grid = &state.grid;
+    let n = particles.len();
+    state.lanes.par_iter_mut().enumerate().for_each(|(k, lane)| {
+        lane.mass.fill(0.0);
+        lane.momentum.fill([0.0; 2]);
+        if with_force {
+            lane.force.fill([0.0; 2]);
+        }
+        let mut st = Stencil::default();
+        for p in lane_range(k, n) {
+            S::stencil(grid, particles, p, F::AXISYMMETRIC, &mut st);
+            let m = particles.mass[p];
+            let v = particles.velocity[p];
+            for e in 0..st.len {
+                let node = st.node[e] as usize;
+                let w = st.weight[e];
+                lane.mass[node] += w * m;
+                lane.momentum[node][0] += w * m * v[0];
+                lane.momentum[node][1] += w * m * v[1];
+            }
+            if with_force {
+                let vol = particles.volume[p];
+                let s = particles.stress[p];
+                let hoop = F::hoop_factor(particles.position[p]);
+                for e in 0..st.len {
+                    let node = st.node[e] as usize;
+                    let w = st.weight[e];
+                    let g = st.gradient[e];
+                    // Internal force (Sulsky & Schreyer 1996, PHYSICS.md §2) plus gravity.
+                    lane.force[node][0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
+                    lane.force[node][1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
+                }
+            }
+        }
+    });
+    let lanes = &state.lanes;
+    let fields = &mut state.fields;
+    const CHUNK: usize = 4096;
+    fields
+        .mass
+        .par_chunks_mut(CHUNK)
+        .zip(fields.momentum.par_chunks_mut(CHUNK))
+        .zip(fields.force.par_chunks_mut(CHUNK))
+        .enumerate()
+        .for_each(|(c, ((mass, momentum), force))| {
+            let start = c * CHUNK;
+            for i in 0..mass.len() {
+                let node = start + i;
+                let (mut m, mut p0, mut p1) = (0.0, 0.0, 0.0);
+                for lane in lanes {
+                    m += lane.mass[node];
+                    p0 += lane.momentum[node][0];
+                    p1 += lane.momentum[node][1];
+                }
+                mass[i] = m;
+                momentum[i] = [p0, p1];
+                if with_force {
+                    let (mut f0, mut f1) = (0.0, 0.0);
+                    for lane in lanes {
+                        f0 += lane.force[node][0];
+                        f1 += lane.force[node][1];
+                    }
+                    force[i] = [f0, f1];
+                }
+            }
+        });
+}
+
+/// Nodal velocities before and after the momentum update, with damping and constraints.
+fn update_grid(state: &mut State, dt: f64) {
+    let params = state.parameters;
+    let fields = &mut state.fields;
+    fields
+        .velocity
+        .par_iter_mut()
+        .zip(fields.velocity_new.par_iter_mut())
+        .zip(fields.mass.par_iter())
+        .zip(fields.momentum.par_iter())
+        .zip(fields.force.par_iter())
+        .with_min_len(1024)
+        .for_each(|((((v, v_new), &m), p), f)| {
+            if m > params.mass_threshold {
+                let v0 = [p[0] / m, p[1] / m];
+                let mut a = [0.0; 2];
+                for d in 0..2 {
+                    // Cundall local damping: the unbalanced force is reduced by α|f| against the motion.
+                    let damped = f[d] - params.damping * f[d].abs() * sign(v0[d]);
+                    a[d] = damped / m;
+                }
+                *v = v0;
+                *v_new = [v0[0] + dt * a[0], v0[1] + dt * a[1]];
+            } else {
+                *v = [0.0; 2];
+                *v_new = [0.0; 2];
+            }
+        });
+    state.constraints.apply(state.time, &mut fields.velocity);
+    state.constraints.apply(state.time, &mut fields.velocity_new);
+}
+
+#[inline(always)]
+fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// New particle velocities (PIC/FLIP blend) and position increments.
+fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) {
+    let particles = &state.particles;
+    let grid = &state.grid;
+    let fields = &state.fields;
+    let flip = state.parameters.flip_fraction;
+    let axisymmetric = F::AXISYMMETRIC;
+    state
+        .scratch
+        .velocity
+        .par_iter_mut()
+        .zip(state.scratch.displacement.par_iter_mut())
+        .enumerate()
+        .with_min_len(256)
+        .for_each_init(Stencil::default, |st, (p, (v_out, dx))| {
+            S::stencil(grid, particles, p, axisymmetric, st);
+            let mut v_grid = [0.0; 2];
+            let mut dv = [0.0; 2];
+            for e in 0..st.len {
+                let node = st.node[e] as usize;
+                let w = st.weight[e];
+                let vn = fields.velocity_new[node];
+                let vo = fields.velocity[node];
+                v_grid[0] += w * vn[0];
+                v_grid[1] += w * vn[1];
+                dv[0] += w * (vn[0] - vo[0]);
+                dv[1] += w * (vn[1] - vo[1]);
+            }
+            let v = particles.velocity[p];
+            *v_out = [
+                flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
+                flip * (v[1] + dv[1]) + (1.0 - flip) * v_grid[1],
+            ];
+            *dx = [dt * v_grid[0], dt * v_grid[1]];
+        });
+    std::mem::swap(&mut state.particles.velocity, &mut state.scratch.velocity);
+}
+
+/// MUSL: nodal velocities from the re-mapped momentum, constrained; stored in `fields.velocity`.
+fn remap_velocity(state: &mut State) {
+    let threshold = state.parameters.mass_threshold;
+    let fields = &mut state.fields;
+    fields.velocity.par_iter_mut().zip(fields.mass.par_iter()).zip(fields.momentum.par_iter()).with_min_len(1024).for_each(
+        |((v, &m), p)| {
+            *v = if m > threshold { [p[0] / m, p[1] / m] } else { [0.0; 2] };
+        },
+    );
+    state.constraints.apply(state.time, &mut fields.velocity);
+}
+
+/// Velocity gradient, deformation gradient, volume, stress and position of every particle.
+fn update_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) -> Result<(), Failure> {
+    let grid = state.grid;
+    let axisymmetric = F::AXISYMMETRIC;
+    // Velocity field used for the strain rate: re-mapped (MUSL) or updated (USL).
+    let strain_velocity =
+        if state.parameters.scheme == UpdateScheme::Musl { &state.fields.velocity } else { &state.fields.velocity_new };
+    {
+        let particles = &state.particles;
+        state.scratch.velocity_gradient.par_iter_mut().enumerate().with_min_len(256).for_each_init(
+            Stencil::default,
+            |st, (p, l)| {
+                S::stencil(&grid, particles, p, axisymmetric, st);
+                let mut g = [0.0; 5];
+                let mut vr = 0.0;
+                for e in 0..st.len {
+                    let v = strain_velocity[st.node[e] as usize];
+                    let dw = st.gradient[e];
+                    g[0] += v[0] * dw[0];
+                    g[1] += v[0] * dw[1];
+                    g[2] += v[1] * dw[0];
+                    g[3] += v[1] * dw[1];
+                    vr += v[0] * st.weight[e];
+                }
+                // Hoop rate L_θθ = Σ v_r,i S_ip / R_p (zero in plane strain).
+                g[4] = vr * F::hoop_factor(particles.position[p]);
+                *l = g;
+            },
+        );
+    }
+    if S::USES_CORNERS {
+        let v_nodes = &state.fields.velocity_new;
+        state.particles.corners.par_iter_mut().with_min_len(256).for_each(|corners| {
+            S::advect_corners(&grid, v_nodes, dt, corners, axisymmetric);
+        });
+        let particles = &state.particles;
+        state.scratch.area.par_iter_mut().enumerate().with_min_len(256).for_each(|(p, a)| {
+            *a = S::domain_area(particles, p).unwrap_or(0.0);
+        });
+    }
+
+    let materials = &state.materials;
+    let scratch = &state.scratch;
+    let particles = &mut state.particles;
+    let stride = particles.state_stride.max(1);
+    if particles.state.is_empty() {
+        // Keep the zipped chunks below aligned when no material has state.
+        particles.state = vec![0.0; particles.len() * stride];
+        particles.state_stride = stride;
+    }
+    let material_ids = &particles.material;
+    let initial_volume = &particles.initial_volume;
+    let velocity = &particles.velocity;
+    particles
+        .deformation_gradient
+        .par_iter_mut()
+        .zip(particles.stress.par_iter_mut())
+        .zip(particles.volume.par_iter_mut())
+        .zip(particles.position.par_iter_mut())
+        .zip(particles.state.par_chunks_mut(stride))
+        .enumerate()
+        .with_min_len(256)
+        .map(|(p, ((((f, stress), volume), x), st))| {
+            let l = scratch.velocity_gradient[p];
+            // F ← (I + Δt L) F in-plane; F33 ← (1 + Δt L33) F33.
+            let f_old = *f;
+            let a = [1.0 + dt * l[0], dt * l[1], dt * l[2], 1.0 + dt * l[3]];
+            f[0] = a[0] * f_old[0] + a[1] * f_old[2];
+            f[1] = a[0] * f_old[1] + a[1] * f_old[3];
+            f[2] = a[2] * f_old[0] + a[3] * f_old[2];
+            f[3] = a[2] * f_old[1] + a[3] * f_old[3];
+            f[4] = (1.0 + dt * l[4]) * f_old[4];
+            let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
+            let d = scratch.displacement[p];
+            x[0] += d[0];
+            x[1] += d[1];
+            *volume = if S::USES_CORNERS {
+                scratch.area[p] * F::volume_factor(*x)
+            } else {
+                initial_volume[p] * jacobian
+            };
+            let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, dt };
+            let material = &materials[material_ids[p] as usize];
+            let n_state = material.state_names().len();
+            material.update_stress(stress, &mut st[..n_state], &kinematics);
+
+            let finite = x[0].is_finite()
+                && x[1].is_finite()
+                && stress.iter().all(|s| s.is_finite())
+                && velocity[p].iter().all(|v| v.is_finite());
+            if !finite {
+                Some(Failure::NotFinite { particle: p })
+            } else if !grid.contains(*x) || (axisymmetric && x[0] <= 0.0) {
+                Some(Failure::LeftGrid { particle: p, position: *x })
+            } else if !(jacobian > 0.0) {
+                Some(Failure::InvertedJacobian { particle: p, jacobian })
+            } else {
+                None
+            }
+        })
+        .reduce(|| None, first_failure)
+        .map_or(Ok(()), Err)
+}

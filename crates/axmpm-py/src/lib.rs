@@ -1,0 +1,212 @@
+//! `axmpm._core`: thin PyO3 bindings of the engine. Arrays come out as numpy copies; the GIL
+//! is released while the engine steps.
+
+use numpy::{IntoPyArray, PyArray2, PyArrayMethods, PyReadonlyArray2};
+use pyo3::create_exception;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+use axmpm_core::config::MaterialConfig;
+use axmpm_core::material::{self, Kinematics};
+use axmpm_core::Simulation;
+
+create_exception!(_core, SimulationFailure, PyRuntimeError, "The run produced an invalid state.");
+
+#[pyclass(name = "Simulation", module = "axmpm._core")]
+struct PySimulation {
+    inner: Simulation,
+}
+
+fn rows<'py, const K: usize>(py: Python<'py>, data: impl Iterator<Item = [f64; K]>, n: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let mut flat = Vec::with_capacity(n * K);
+    for row in data {
+        flat.extend_from_slice(&row);
+    }
+    flat.into_pyarray(py).reshape([n, K])
+}
+
+#[pymethods]
+impl PySimulation {
+    /// Simulation(config_json, threads=0): builds a run from the resolved scenario JSON.
+    #[new]
+    #[pyo3(signature = (config_json, threads = 0))]
+    fn new(py: Python<'_>, config_json: &str, threads: usize) -> PyResult<Self> {
+        let inner = py.detach(|| Simulation::from_json(config_json, threads)).map_err(PyValueError::new_err)?;
+        Ok(Self { inner })
+    }
+
+    /// Restores a checkpoint written by `to_bytes`.
+    #[staticmethod]
+    #[pyo3(signature = (data, threads = 0))]
+    fn from_bytes(data: &[u8], threads: usize) -> PyResult<Self> {
+        Simulation::from_bytes(data, threads).map(|inner| Self { inner }).map_err(PyValueError::new_err)
+    }
+
+    fn to_bytes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        let data = self.inner.to_bytes().map_err(PyRuntimeError::new_err)?;
+        Ok(PyBytes::new(py, &data))
+    }
+
+    /// advance(until, max_steps) -> steps taken. Stops at `until` exactly or after `max_steps`.
+    fn advance(&mut self, py: Python<'_>, until: f64, max_steps: u64) -> PyResult<u64> {
+        let inner = &mut self.inner;
+        py.detach(|| inner.advance(until, max_steps)).map_err(|f| SimulationFailure::new_err(f.to_string()))
+    }
+
+    #[getter]
+    fn time(&self) -> f64 {
+        self.inner.time()
+    }
+    #[getter]
+    fn steps(&self) -> u64 {
+        self.inner.steps()
+    }
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.inner.dt()
+    }
+    #[getter]
+    fn threads(&self) -> usize {
+        self.inner.threads()
+    }
+    #[getter]
+    fn num_particles(&self) -> usize {
+        self.inner.particles().len()
+    }
+    #[getter]
+    fn num_nodes(&self) -> usize {
+        self.inner.grid().num_nodes()
+    }
+    #[getter]
+    fn grid_shape(&self) -> (usize, usize) {
+        let n = self.inner.grid().nodes;
+        (n[0], n[1])
+    }
+    #[getter]
+    fn bytes_per_particle(&self) -> usize {
+        self.inner.particles().bytes_per_particle()
+    }
+
+    fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.inner.particles();
+        rows(py, p.position.iter().copied(), p.len())
+    }
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.inner.particles();
+        rows(py, p.velocity.iter().copied(), p.len())
+    }
+    fn initial_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.inner.particles();
+        rows(py, p.initial_position.iter().copied(), p.len())
+    }
+    /// (N, 4): [xx, yy, zz, xy] plane strain, [rr, zz, θθ, rz] axisymmetric.
+    fn stresses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.inner.particles();
+        rows(py, p.stress.iter().copied(), p.len())
+    }
+    /// (N, 5): [F11, F12, F21, F22, F33].
+    fn deformation_gradients<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.inner.particles();
+        rows(py, p.deformation_gradient.iter().copied(), p.len())
+    }
+    /// (N, 8): corners [x1, y1, ..., x4, y4] counter-clockwise (CPDI2; empty otherwise).
+    fn corners<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.inner.particles();
+        let n = p.corners.len();
+        rows(py, p.corners.iter().map(|c| [c[0][0], c[0][1], c[1][0], c[1][1], c[2][0], c[2][1], c[3][0], c[3][1]]), n)
+    }
+    fn volumes<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        self.inner.particles().volume.clone().into_pyarray(py)
+    }
+    fn initial_volumes<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        self.inner.particles().initial_volume.clone().into_pyarray(py)
+    }
+    fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        self.inner.particles().mass.clone().into_pyarray(py)
+    }
+    fn material_ids<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<i32>> {
+        self.inner.particles().material.iter().map(|&m| m as i32).collect::<Vec<_>>().into_pyarray(py)
+    }
+    fn material_names(&self) -> Vec<String> {
+        self.inner.material_names().to_vec()
+    }
+    fn state_names(&self) -> Vec<String> {
+        self.inner.state_names().to_vec()
+    }
+    /// (N, len(state_names())).
+    fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let n = self.inner.particles().len();
+        let k = self.inner.state_names().len();
+        self.inner.state_table().into_pyarray(py).reshape([n, k])
+    }
+    /// {"kinetic_energy": J, "gravity_work": J} for the whole body (axisymmetric: × 2π).
+    fn energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let e = self.inner.energies();
+        let d = PyDict::new(py);
+        d.set_item("kinetic_energy", e.kinetic_energy)?;
+        d.set_item("gravity_work", e.gravity_work)?;
+        Ok(d)
+    }
+    /// The failure message once the run has failed, else None.
+    fn failure(&self) -> Option<String> {
+        self.inner.failure().map(|f| f.to_string())
+    }
+}
+
+/// material_response(material_json, velocity_gradients (S, 5), dt, initial_stress=[0]*4)
+/// -> (stresses (S, 4), states (S, k), state_names)
+///
+/// Drives one material point through a sequence of velocity gradients
+/// [L11, L12, L21, L22, L33], each applied for `dt`; F is integrated as in the solver.
+#[pyfunction]
+#[pyo3(signature = (material_json, velocity_gradients, dt, initial_stress = [0.0; 4]))]
+#[allow(clippy::type_complexity)]
+fn material_response<'py>(
+    py: Python<'py>,
+    material_json: &str,
+    velocity_gradients: PyReadonlyArray2<'py, f64>,
+    dt: f64,
+    initial_stress: [f64; 4],
+) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<f64>>, Vec<String>)> {
+    let config: MaterialConfig =
+        serde_json::from_str(material_json).map_err(|e| PyValueError::new_err(format!("material: {e}")))?;
+    let model = material::build("material", &config).map_err(PyValueError::new_err)?;
+    let l = velocity_gradients.as_array();
+    if l.ncols() != 5 {
+        return Err(PyValueError::new_err("velocity_gradients must have 5 columns [L11, L12, L21, L22, L33]"));
+    }
+    let names: Vec<String> = model.state_names().iter().map(|s| s.to_string()).collect();
+    let k = names.len();
+    let steps = l.nrows();
+    let mut stress = initial_stress;
+    let mut state = vec![0.0; k];
+    let mut f = [1.0, 0.0, 0.0, 1.0, 1.0];
+    let mut stresses = Vec::with_capacity(steps * 4);
+    let mut states = Vec::with_capacity(steps * k);
+    for s in 0..steps {
+        let g = [l[[s, 0]], l[[s, 1]], l[[s, 2]], l[[s, 3]], l[[s, 4]]];
+        let a = [1.0 + dt * g[0], dt * g[1], dt * g[2], 1.0 + dt * g[3]];
+        f = [
+            a[0] * f[0] + a[1] * f[2],
+            a[0] * f[1] + a[1] * f[3],
+            a[2] * f[0] + a[3] * f[2],
+            a[2] * f[1] + a[3] * f[3],
+            (1.0 + dt * g[4]) * f[4],
+        ];
+        let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
+        model.update_stress(&mut stress, &mut state, &Kinematics { velocity_gradient: g, deformation_gradient: f, jacobian, dt });
+        stresses.extend_from_slice(&stress);
+        states.extend_from_slice(&state);
+    }
+    Ok((stresses.into_pyarray(py).reshape([steps, 4])?, states.into_pyarray(py).reshape([steps, k])?, names))
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PySimulation>()?;
+    m.add("SimulationFailure", m.py().get_type::<SimulationFailure>())?;
+    m.add_function(wrap_pyfunction!(material_response, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}
