@@ -169,6 +169,7 @@ impl Simulation {
             parameters,
             time,
             steps,
+            timings: Default::default(),
         };
         state.allocate_scratch();
         let pool = rayon::ThreadPoolBuilder::new()
@@ -253,6 +254,10 @@ impl Simulation {
     }
     pub fn state_names(&self) -> &[String] {
         &self.state_names
+    }
+    /// Wall seconds spent in each phase of the step since this object was built.
+    pub fn timings(&self) -> solver::PhaseTimings {
+        self.state.timings
     }
     pub fn failure(&self) -> Option<&SimulationFailure> {
         self.failure.as_ref()

@@ -30,17 +30,41 @@ use crate::shape::{ShapeFunction, Stencil};
 /// Number of particle ranges scattered independently in particle → grid.
 pub const LANES: usize = 8;
 
-/// Nodal buffers of one lane.
+/// Nodal buffers of one lane. Only the node range `touched` (inclusive bounds on the node
+/// index) can be non-zero, so clearing and summing the lanes costs in proportion to the
+/// region the lane's particles cover, not to the whole grid.
 #[derive(Clone, Debug)]
 pub struct Lane {
     pub mass: Vec<f64>,
     pub momentum: Vec<[f64; 2]>,
     pub force: Vec<[f64; 2]>,
+    pub touched: (usize, usize),
 }
 
 impl Lane {
     fn new(num_nodes: usize) -> Self {
-        Self { mass: vec![0.0; num_nodes], momentum: vec![[0.0; 2]; num_nodes], force: vec![[0.0; 2]; num_nodes] }
+        Self {
+            mass: vec![0.0; num_nodes],
+            momentum: vec![[0.0; 2]; num_nodes],
+            force: vec![[0.0; 2]; num_nodes],
+            touched: (usize::MAX, 0),
+        }
+    }
+
+    #[inline(always)]
+    fn touches(&self, node: usize) -> bool {
+        node >= self.touched.0 && node <= self.touched.1
+    }
+
+    /// Zeroes the buffers where the previous scatter wrote.
+    fn clear(&mut self) {
+        let (lo, hi) = self.touched;
+        if lo <= hi {
+            self.mass[lo..=hi].fill(0.0);
+            self.momentum[lo..=hi].fill([0.0; 2]);
+            self.force[lo..=hi].fill([0.0; 2]);
+        }
+        self.touched = (usize::MAX, 0);
     }
 }
 
@@ -75,6 +99,17 @@ pub struct State {
     pub parameters: StepParameters,
     pub time: f64,
     pub steps: u64,
+    /// Wall seconds spent in each phase since the start of the run.
+    pub timings: PhaseTimings,
+}
+
+/// Wall-clock seconds per phase of the step (for `axmpm bench`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PhaseTimings {
+    pub particle_to_grid: f64,
+    pub grid_update: f64,
+    pub grid_to_particle: f64,
+    pub constitutive_update: f64,
 }
 
 /// Why a step produced an invalid state, for the first offending particle (lowest index).
@@ -138,14 +173,23 @@ fn lane_range(k: usize, n: usize) -> std::ops::Range<usize> {
 /// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
 /// any (the state is then left as computed, for inspection).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
+    let t0 = std::time::Instant::now();
     particle_to_grid::<F, S>(state, gravity, true);
+    let t1 = std::time::Instant::now();
     update_grid(state, dt);
+    let t2 = std::time::Instant::now();
     grid_to_particle::<F, S>(state, dt);
     if state.parameters.scheme == UpdateScheme::Musl {
         particle_to_grid::<F, S>(state, gravity, false);
         remap_velocity(state);
     }
+    let t3 = std::time::Instant::now();
     let result = update_particles::<F, S>(state, dt);
+    let t4 = std::time::Instant::now();
+    state.timings.particle_to_grid += (t1 - t0).as_secs_f64();
+    state.timings.grid_update += (t2 - t1).as_secs_f64();
+    state.timings.grid_to_particle += (t3 - t2).as_secs_f64();
+    state.timings.constitutive_update += (t4 - t3).as_secs_f64();
     state.time += dt;
     state.steps += 1;
     result
@@ -158,18 +202,17 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let grid = &state.grid;
     let n = particles.len();
     state.lanes.par_iter_mut().enumerate().for_each(|(k, lane)| {
-        lane.mass.fill(0.0);
-        lane.momentum.fill([0.0; 2]);
-        if with_force {
-            lane.force.fill([0.0; 2]);
-        }
+        lane.clear();
         let mut st = Stencil::default();
+        let (mut lo, mut hi) = (usize::MAX, 0usize);
         for p in lane_range(k, n) {
             S::stencil(grid, particles, p, F::AXISYMMETRIC, &mut st);
             let m = particles.mass[p];
             let v = particles.velocity[p];
             for e in 0..st.len {
                 let node = st.node[e] as usize;
+                lo = lo.min(node);
+                hi = hi.max(node);
                 let w = st.weight[e];
                 lane.mass[node] += w * m;
                 lane.momentum[node][0] += w * m * v[0];
@@ -189,6 +232,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 }
             }
         }
+        lane.touched = (lo, hi);
     });
     let lanes = &state.lanes;
     let fields = &mut state.fields;
@@ -204,7 +248,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
             for i in 0..mass.len() {
                 let node = start + i;
                 let (mut m, mut p0, mut p1) = (0.0, 0.0, 0.0);
-                for lane in lanes {
+                for lane in lanes.iter().filter(|l| l.touches(node)) {
                     m += lane.mass[node];
                     p0 += lane.momentum[node][0];
                     p1 += lane.momentum[node][1];
@@ -213,7 +257,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 momentum[i] = [p0, p1];
                 if with_force {
                     let (mut f0, mut f1) = (0.0, 0.0);
-                    for lane in lanes {
+                    for lane in lanes.iter().filter(|l| l.touches(node)) {
                         f0 += lane.force[node][0];
                         f1 += lane.force[node][1];
                     }

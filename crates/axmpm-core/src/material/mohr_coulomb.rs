@@ -1,14 +1,371 @@
-//! Placeholder: Mohr–Coulomb is being implemented (issue #4); selecting it is an error for now.
+//! Mohr–Coulomb elasto-plasticity with non-associated flow and a tension cut-off
+//! (PHYSICS.md §5), integrated with the principal-stress return of
+//! Clausen, Damkilde & Andersen:
+//!
+//! * J. Clausen, L. Damkilde, L. Andersen (2006), *Efficient return algorithms for associated
+//!   plasticity with multiple yield planes*, Int. J. Numer. Meth. Engng 66:1036–1059.
+//! * J. Clausen, L. Damkilde, L. Andersen (2007), *An efficient return algorithm for
+//!   non-associated plasticity with linear yield criteria in principal stress space*,
+//!   Computers & Structures 85:1795–1807.
+//!
+//! # Stress update (one step)
+//!
+//! 1. Hypoelastic trial with the Jaumann rate, exactly as [`LinearElastic`]:
+//!    σ_B = σ + dt (W σ − σ W) + λ tr(dε) I + 2μ dε, dε = D dt.
+//! 2. Principal stresses of σ_B: the in-plane 2×2 block in closed form
+//!    (centre c = (σ11+σ22)/2, radius R = √(((σ11−σ22)/2)² + σ12²), eigenvalues c ± R, direction
+//!    cos 2θ = (σ11−σ22)/(2R), sin 2θ = σ12/R; R = 0 takes θ = 0) plus σ33, which is always
+//!    principal. They are sorted σ1 ≥ σ2 ≥ σ3 (tension positive) remembering where each came from.
+//! 3. Return mapping in principal space (below). Elastic isotropy makes the plastic corrector
+//!    coaxial with σ_B, so the returned principal values are simply put back on the same axes:
+//!    σ11 = c' + R' cos 2θ, σ22 = c' − R' cos 2θ, σ12 = R' sin 2θ, σ33 = its own returned value.
+//!    The ordering is preserved by every return, so R' ≥ 0; equal principal values (any
+//!    eigenvector basis) are returned equal, so the arbitrary basis of a degenerate pair is harmless.
+//!
+//! # Yield surfaces and flow (sorted principal space σ1 ≥ σ2 ≥ σ3)
+//!
+//! Mohr–Coulomb:  f = k σ1 − σ3 − 2c√k ≤ 0, k = (1 + sin φ)/(1 − sin φ),
+//! plastic potential g = m σ1 − σ3, m = (1 + sin ψ)/(1 − sin ψ), i.e. the flow direction of the
+//! main plane is b = (m, 0, −1) (gradient a = (k, 0, −1)).
+//! Its apex is σ_a (1, 1, 1) with σ_a = 2c√k/(k − 1) = c cot φ (0 for c = 0).
+//!
+//! Tension cut-off (Rankine, associated): σ1 ≤ σ_t, flow (1, 0, 0). `tension_cutoff` is clamped
+//! to σ_a (a cut-off above the apex is never active); with σ_t = σ_a (always the case for c = 0)
+//! there is no cut-off and the apex return takes care of tension.
+//!
+//! In principal space the elastic stiffness is D = λ 1 1ᵀ + 2μ I, the compliance C = D⁻¹.
+//! A plastic corrector is σ_B − σ_C = D Σ Δλ_i b_i over the active planes, Δλ_i ≥ 0.
+//!
+//! ## Mohr–Coulomb returns (Clausen et al. 2007, §3–4)
+//!
+//! * **Plane**: σ_C = σ_B − f(σ_B) r_p, r_p = D b / (aᵀ D b).
+//! * **Edges** (lines through the apex, in the sorted sector):
+//!   l1 (σ1 = σ2, triaxial compression), direction r_l1 = −(1, 1, k);
+//!   l2 (σ2 = σ3, triaxial extension),  direction r_l2 = −(1, k, k).
+//!   σ_C = σ_a + t r_l with t = r_gᵀ C (σ_B − σ_a) / (r_gᵀ C r_l), where r_g is the matching edge
+//!   of the plastic potential, r_g1 = (1, 1, m), r_g2 = (1, m, m) (r_g = b × b' of the two
+//!   planes meeting at the edge; C r_g is the normal of the plane spanned by the two return
+//!   directions D b, D b', so σ_B − σ_C lies in that span). t ≥ 0 is the valid part of the line.
+//! * **Apex**: σ_C = σ_a (1, 1, 1).
+//!
+//! Region tests (all linear in σ_B): with σ_C^p the plane return,
+//! p1 = σ_C1^p − σ_C2^p and p2 = σ_C2^p − σ_C3^p (the signed distances to the boundary planes
+//! between the plane region and the edge regions, which contain the edge and r_p), and t1, t2 the
+//! line parameters above (t = 0 is the boundary plane between an edge region and the apex region,
+//! spanned by the two return directions of that edge):
+//!
+//! ```text
+//! f(σ_B) ≤ 0                 elastic
+//! t1 ≤ 0 and t2 ≤ 0          apex
+//! p1 ≥ 0 and p2 ≥ 0          plane
+//! p1 < 0 and t1 > 0          edge l1 (σ1 = σ2)
+//! otherwise                  edge l2 (σ2 = σ3)
+//! ```
+//!
+//! For ψ < φ the apex return is not a flow-rule return (for ψ = 0 a trial stress whose mean
+//! stress exceeds σ_a cannot be reached with isochoric flow at all); as in Clausen et al. the
+//! stress is put at the apex and the difference is booked as plastic strain.
+//!
+//! ## Tension cut-off combined with Mohr–Coulomb
+//!
+//! With an active cut-off (σ_t < σ_a) the candidates are tried in this order; each accepted one
+//! satisfies both criteria, and for associated flow this order yields the closest-point
+//! projection (a return that already satisfies the other criterion is the combined return):
+//!
+//! 1. Mohr–Coulomb return as above, if f(σ_B) > 0; accepted if σ1 ≤ σ_t.
+//! 2. Rankine return (Clausen et al. 2006): plane σ1 = σ_t,
+//!    σ_C = σ_B − (σ_B1 − σ_t)/(λ + 2μ) · (λ + 2μ, λ, λ); if then σ_C2 > σ_t (σ2 would exceed the
+//!    cut-off, the PHYSICS.md pitfall) the edge σ1 = σ2 = σ_t with σ_C3 = σ_B3 − ν (σ_B1 + σ_B2 − 2σ_t);
+//!    if also σ_C3 > σ_t the corner σ_t (1, 1, 1). Accepted if f(σ_C) ≤ 0.
+//! 3. The Mohr–Coulomb/tension edge σ1 = σ_t, σ3 = kσ_t − 2c√k, whose return (span of D b and
+//!    D e1, normal C e2) gives σ_C2 = σ_B2 − ν (σ_B1 − σ_t + σ_B3 − σ_C3); if σ_C2 > σ_t the corner
+//!    (σ_t, σ_t, kσ_t − 2c√k), if σ_C2 < σ_C3 the corner (σ_t, kσ_t − 2c√k, kσ_t − 2c√k).
+//!
+//! # State variables
+//!
+//! With the principal plastic strain increment Δε^p = C (σ_B − σ_C) (tensor strain; coaxial with
+//! the stress):
+//! * `plastic_shear_strain`: Σ √(2/3 Δe^p : Δe^p), Δe^p = dev Δε^p (accumulated equivalent
+//!   deviatoric plastic strain, ≥ 0; in triaxial compression its rate is (2/3)|ε̇1^p − ε̇3^p|).
+//! * `plastic_volumetric_strain`: Σ tr Δε^p (signed accumulated plastic volume change,
+//!   dilation positive; identically zero for ψ = 0 except for apex / tension returns).
 
-use super::{Kinematics, Material};
+use super::{jaumann_rotation, lame, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material};
 use crate::config::MaterialConfig;
 use crate::particles::Stress;
 
-pub struct MohrCoulomb;
+/// Which part of the yield surface a return went to (sorted principal space).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReturnRegion {
+    /// Inside both criteria: the trial stress stands.
+    Elastic,
+    /// Mohr–Coulomb plane k σ1 − σ3 = 2c√k.
+    Plane,
+    /// Mohr–Coulomb edge σ1 = σ2 (triaxial compression).
+    EdgeCompression,
+    /// Mohr–Coulomb edge σ2 = σ3 (triaxial extension).
+    EdgeExtension,
+    /// Mohr–Coulomb apex σ_a (1, 1, 1).
+    Apex,
+    /// Tension cut-off plane σ1 = σ_t.
+    TensionPlane,
+    /// Tension cut-off edge σ1 = σ2 = σ_t.
+    TensionEdge,
+    /// Tension cut-off corner σ1 = σ2 = σ3 = σ_t.
+    TensionCorner,
+    /// Intersection line of the Mohr–Coulomb plane and the cut-off: σ1 = σ_t, σ3 = kσ_t − 2c√k.
+    TensionShearEdge,
+    /// Corner (σ_t, σ_t, kσ_t − 2c√k): cut-off edge meets the compression edge.
+    TensionShearCornerCompression,
+    /// Corner (σ_t, kσ_t − 2c√k, kσ_t − 2c√k): cut-off meets the extension edge.
+    TensionShearCornerExtension,
+}
+
+#[derive(Clone, Debug)]
+pub struct MohrCoulomb {
+    pub density: f64,
+    pub youngs_modulus: f64,
+    pub poisson_ratio: f64,
+    /// Degrees.
+    pub friction_angle: f64,
+    /// Degrees.
+    pub dilation_angle: f64,
+    /// Pa.
+    pub cohesion: f64,
+    /// Pa, as configured (the effective value is clamped to the apex).
+    pub tension_cutoff: f64,
+    elastic: LinearElastic,
+    lambda: f64,
+    mu: f64,
+    /// k = (1 + sin φ)/(1 − sin φ).
+    k: f64,
+    /// 2c√k.
+    two_c_sqrt_k: f64,
+    /// Apex σ_a = c cot φ.
+    apex: f64,
+    /// Effective cut-off min(σ_t, σ_a).
+    sigma_t: f64,
+    /// σ_t < σ_a: the cut-off is active.
+    cutoff: bool,
+    /// Plane return direction D b / (aᵀ D b).
+    r_p: [f64; 3],
+    /// Edge directions (valid part t ≥ 0).
+    r_l1: [f64; 3],
+    r_l2: [f64; 3],
+    /// C r_g / (r_gᵀ C r_l): t = n · (σ_B − σ_a).
+    n_l1: [f64; 3],
+    n_l2: [f64; 3],
+}
+
+#[inline(always)]
+fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
 
 impl MohrCoulomb {
-    pub fn from_config(_c: &MaterialConfig) -> Result<Self, String> {
-        Err("mohr_coulomb is not available yet".into())
+    /// Angles in degrees. Preconditions (checked by [`MohrCoulomb::from_config`]):
+    /// 0 < φ < 90, 0 ≤ ψ ≤ φ, c ≥ 0, σ_t ≥ 0, E > 0, −1 < ν < 0.5.
+    pub fn new(
+        density: f64,
+        youngs_modulus: f64,
+        poisson_ratio: f64,
+        friction_angle: f64,
+        dilation_angle: f64,
+        cohesion: f64,
+        tension_cutoff: f64,
+    ) -> Self {
+        let (lambda, mu) = lame(youngs_modulus, poisson_ratio);
+        let sphi = friction_angle.to_radians().sin();
+        let spsi = dilation_angle.to_radians().sin();
+        let k = (1.0 + sphi) / (1.0 - sphi);
+        let m = (1.0 + spsi) / (1.0 - spsi);
+        let two_c_sqrt_k = 2.0 * cohesion * k.sqrt();
+        let apex = two_c_sqrt_k / (k - 1.0);
+        let sigma_t = tension_cutoff.min(apex);
+        let cutoff = sigma_t < apex;
+
+        let stiff = |v: [f64; 3]| -> [f64; 3] {
+            let tr = lambda * (v[0] + v[1] + v[2]);
+            [tr + 2.0 * mu * v[0], tr + 2.0 * mu * v[1], tr + 2.0 * mu * v[2]]
+        };
+        let comply = |v: [f64; 3]| -> [f64; 3] {
+            let s = poisson_ratio * (v[0] + v[1] + v[2]);
+            let e = youngs_modulus;
+            [
+                ((1.0 + poisson_ratio) * v[0] - s) / e,
+                ((1.0 + poisson_ratio) * v[1] - s) / e,
+                ((1.0 + poisson_ratio) * v[2] - s) / e,
+            ]
+        };
+        let a = [k, 0.0, -1.0];
+        let db = stiff([m, 0.0, -1.0]);
+        let adb = dot(&a, &db);
+        let r_p = [db[0] / adb, db[1] / adb, db[2] / adb];
+        let r_l1 = [-1.0, -1.0, -k];
+        let r_l2 = [-1.0, -k, -k];
+        let cg1 = comply([1.0, 1.0, m]);
+        let cg2 = comply([1.0, m, m]);
+        let d1 = dot(&cg1, &r_l1);
+        let d2 = dot(&cg2, &r_l2);
+        let n_l1 = [cg1[0] / d1, cg1[1] / d1, cg1[2] / d1];
+        let n_l2 = [cg2[0] / d2, cg2[1] / d2, cg2[2] / d2];
+
+        Self {
+            density,
+            youngs_modulus,
+            poisson_ratio,
+            friction_angle,
+            dilation_angle,
+            cohesion,
+            tension_cutoff,
+            elastic: LinearElastic::new(density, youngs_modulus, poisson_ratio),
+            lambda,
+            mu,
+            k,
+            two_c_sqrt_k,
+            apex,
+            sigma_t,
+            cutoff,
+            r_p,
+            r_l1,
+            r_l2,
+            n_l1,
+            n_l2,
+        }
+    }
+
+    pub fn from_config(c: &MaterialConfig) -> Result<Self, String> {
+        let phi = c.friction_angle.ok_or("friction_angle is required for mohr_coulomb")?;
+        if !(phi > 0.0 && phi < 90.0) {
+            return Err(format!("friction_angle must be in (0, 90) degrees for mohr_coulomb (got {phi})"));
+        }
+        let psi = c.dilation_angle.unwrap_or(0.0);
+        if !(psi >= 0.0 && psi <= phi) {
+            return Err(format!(
+                "dilation_angle must be in [0, friction_angle] = [0, {phi}] degrees for mohr_coulomb (got {psi})"
+            ));
+        }
+        let coh = c.cohesion.unwrap_or(0.0);
+        if !(coh >= 0.0 && coh.is_finite()) {
+            return Err(format!("cohesion must be >= 0 for mohr_coulomb (got {coh})"));
+        }
+        let st = c.tension_cutoff.unwrap_or(0.0);
+        if !(st >= 0.0 && st.is_finite()) {
+            return Err(format!("tension_cutoff must be >= 0 for mohr_coulomb (got {st})"));
+        }
+        if !(c.youngs_modulus > 0.0 && c.youngs_modulus.is_finite()) {
+            return Err(format!("youngs_modulus must be > 0 for mohr_coulomb (got {})", c.youngs_modulus));
+        }
+        if !(c.poisson_ratio > -1.0 && c.poisson_ratio < 0.5) {
+            return Err(format!("poisson_ratio must be in (-1, 0.5) for mohr_coulomb (got {})", c.poisson_ratio));
+        }
+        if !(c.density > 0.0 && c.density.is_finite()) {
+            return Err(format!("density must be > 0 for mohr_coulomb (got {})", c.density));
+        }
+        Ok(Self::new(c.density, c.youngs_modulus, c.poisson_ratio, phi, psi, coh, st))
+    }
+
+    /// Mohr–Coulomb yield function f = k σ1 − σ3 − 2c√k of sorted principal stresses.
+    #[inline(always)]
+    pub fn yield_function(&self, s: &[f64; 3]) -> f64 {
+        self.k * s[0] - s[2] - self.two_c_sqrt_k
+    }
+
+    /// Apex stress c cot φ and effective tension cut-off min(σ_t, c cot φ).
+    pub fn apex_and_cutoff(&self) -> (f64, f64) {
+        (self.apex, self.sigma_t)
+    }
+
+    /// Mohr–Coulomb part of the return for a sorted trial with f(s) > 0 (Clausen et al. 2007).
+    #[inline(always)]
+    fn return_mohr_coulomb(&self, s: &[f64; 3]) -> ([f64; 3], ReturnRegion) {
+        let sa = self.apex;
+        let f = self.yield_function(s);
+        let x = [s[0] - sa, s[1] - sa, s[2] - sa];
+        let t1 = dot(&self.n_l1, &x);
+        let t2 = dot(&self.n_l2, &x);
+        if t1 <= 0.0 && t2 <= 0.0 {
+            return ([sa, sa, sa], ReturnRegion::Apex);
+        }
+        let sc = [s[0] - f * self.r_p[0], s[1] - f * self.r_p[1], s[2] - f * self.r_p[2]];
+        let p1 = sc[0] - sc[1];
+        let p2 = sc[1] - sc[2];
+        if p1 >= 0.0 && p2 >= 0.0 {
+            return (sc, ReturnRegion::Plane);
+        }
+        if p1 < 0.0 && t1 > 0.0 {
+            let r = &self.r_l1;
+            return ([sa + t1 * r[0], sa + t1 * r[1], sa + t1 * r[2]], ReturnRegion::EdgeCompression);
+        }
+        let t2 = t2.max(0.0);
+        let r = &self.r_l2;
+        ([sa + t2 * r[0], sa + t2 * r[1], sa + t2 * r[2]], ReturnRegion::EdgeExtension)
+    }
+
+    /// Rankine (tension cut-off) return of a sorted trial with σ1 > σ_t (Clausen et al. 2006).
+    #[inline(always)]
+    fn return_tension(&self, s: &[f64; 3]) -> ([f64; 3], ReturnRegion) {
+        let st = self.sigma_t;
+        let d1 = s[0] - st;
+        let nu_p = self.lambda / (self.lambda + 2.0 * self.mu);
+        let s2 = s[1] - nu_p * d1;
+        if s2 <= st {
+            return ([st, s2, s[2] - nu_p * d1], ReturnRegion::TensionPlane);
+        }
+        let s3 = s[2] - self.poisson_ratio * (d1 + (s[1] - st));
+        if s3 <= st {
+            ([st, st, s3], ReturnRegion::TensionEdge)
+        } else {
+            ([st, st, st], ReturnRegion::TensionCorner)
+        }
+    }
+
+    /// Return to the Mohr–Coulomb/tension intersection line or its end corners.
+    #[inline(always)]
+    fn return_tension_shear(&self, s: &[f64; 3]) -> ([f64; 3], ReturnRegion) {
+        let st = self.sigma_t;
+        let s3 = self.k * st - self.two_c_sqrt_k;
+        let s2 = s[1] - self.poisson_ratio * ((s[0] - st) + (s[2] - s3));
+        if s2 > st {
+            ([st, st, s3], ReturnRegion::TensionShearCornerCompression)
+        } else if s2 < s3 {
+            ([st, s3, s3], ReturnRegion::TensionShearCornerExtension)
+        } else {
+            ([st, s2, s3], ReturnRegion::TensionShearEdge)
+        }
+    }
+
+    /// Full return mapping of sorted principal trial stresses `s` (σ1 ≥ σ2 ≥ σ3).
+    pub fn return_principal(&self, s: &[f64; 3]) -> ([f64; 3], ReturnRegion) {
+        let scale = s[0].abs() + s[1].abs() + s[2].abs() + self.two_c_sqrt_k + self.sigma_t.abs();
+        let tol = 1e-14 * self.k * scale;
+        let f = self.yield_function(s);
+        let shear = f > tol;
+        let tension = self.cutoff && s[0] > self.sigma_t + tol;
+        if !shear && !tension {
+            return (*s, ReturnRegion::Elastic);
+        }
+        if shear {
+            let r = self.return_mohr_coulomb(s);
+            if !self.cutoff || r.0[0] <= self.sigma_t + tol {
+                return r;
+            }
+        }
+        let r = self.return_tension(s);
+        if self.yield_function(&r.0) <= tol {
+            return r;
+        }
+        self.return_tension_shear(s)
+    }
+
+    /// Principal plastic strain increment C (σ_B − σ_C).
+    #[inline(always)]
+    fn plastic_strain(&self, trial: &[f64; 3], ret: &[f64; 3]) -> [f64; 3] {
+        let d = [trial[0] - ret[0], trial[1] - ret[1], trial[2] - ret[2]];
+        let nu = self.poisson_ratio;
+        let s = nu * (d[0] + d[1] + d[2]);
+        let e = self.youngs_modulus;
+        [((1.0 + nu) * d[0] - s) / e, ((1.0 + nu) * d[1] - s) / e, ((1.0 + nu) * d[2] - s) / e]
     }
 }
 
@@ -17,10 +374,753 @@ impl Material for MohrCoulomb {
         "mohr_coulomb"
     }
     fn density(&self) -> f64 {
-        0.0
+        self.density
     }
     fn wave_speed(&self) -> f64 {
-        0.0
+        p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
     }
-    fn update_stress(&self, _stress: &mut Stress, _state: &mut [f64], _k: &Kinematics) {}
+    fn state_names(&self) -> &'static [&'static str] {
+        &["plastic_shear_strain", "plastic_volumetric_strain"]
+    }
+
+    fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
+        // Hypoelastic Jaumann trial, identical (bit for bit) to LinearElastic.
+        let (d, spin) = rate_of_deformation(&k.velocity_gradient);
+        let de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
+        let rot = jaumann_rotation(stress, spin, k.dt);
+        let inc = self.elastic.elastic_increment(&de);
+        let mut tr = *stress;
+        for c in 0..4 {
+            tr[c] += inc[c] + rot[c];
+        }
+
+        // In-plane principal values a ≥ b and their axes; σ33 is principal.
+        let centre = 0.5 * (tr[0] + tr[1]);
+        let half = 0.5 * (tr[0] - tr[1]);
+        let radius = half.hypot(tr[3]);
+        let (cos2, sin2) = if radius > 0.0 { (half / radius, tr[3] / radius) } else { (1.0, 0.0) };
+        let vals = [centre + radius, centre - radius, tr[2]];
+        // order[i] = which of (a, b, 33) is σ_{i+1}.
+        let order: [usize; 3] = if vals[2] > vals[0] {
+            [2, 0, 1]
+        } else if vals[2] >= vals[1] {
+            [0, 2, 1]
+        } else {
+            [0, 1, 2]
+        };
+        let sorted = [vals[order[0]], vals[order[1]], vals[order[2]]];
+
+        let (ret, region) = self.return_principal(&sorted);
+        if region == ReturnRegion::Elastic {
+            *stress = tr;
+            return;
+        }
+
+        let mut new_vals = [0.0; 3];
+        for i in 0..3 {
+            new_vals[order[i]] = ret[i];
+        }
+        let c2 = 0.5 * (new_vals[0] + new_vals[1]);
+        let r2 = 0.5 * (new_vals[0] - new_vals[1]);
+        *stress = [c2 + r2 * cos2, c2 - r2 * cos2, new_vals[2], r2 * sin2];
+
+        if state.len() >= 2 {
+            let ep = self.plastic_strain(&sorted, &ret);
+            let vol = ep[0] + ep[1] + ep[2];
+            let m = vol / 3.0;
+            let (e0, e1, e2) = (ep[0] - m, ep[1] - m, ep[2] - m);
+            state[0] += (2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2)).sqrt();
+            state[1] += vol;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const E: f64 = 50e6;
+    const NU: f64 = 0.3;
+
+    fn mc(phi: f64, psi: f64, c: f64, st: f64) -> MohrCoulomb {
+        MohrCoulomb::new(2000.0, E, NU, phi, psi, c, st)
+    }
+
+    fn kin(l: [f64; 5], dt: f64) -> Kinematics {
+        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, dt }
+    }
+
+    fn stiff(v: [f64; 3]) -> [f64; 3] {
+        let (l, m) = lame(E, NU);
+        let t = l * (v[0] + v[1] + v[2]);
+        [t + 2.0 * m * v[0], t + 2.0 * m * v[1], t + 2.0 * m * v[2]]
+    }
+
+    fn comply(v: [f64; 3]) -> [f64; 3] {
+        let s = NU * (v[0] + v[1] + v[2]);
+        [((1.0 + NU) * v[0] - s) / E, ((1.0 + NU) * v[1] - s) / E, ((1.0 + NU) * v[2] - s) / E]
+    }
+
+    fn kk(phi: f64) -> f64 {
+        let s = phi.to_radians().sin();
+        (1.0 + s) / (1.0 - s)
+    }
+
+    /// Flow directions of the planes meeting in the sorted sector: main MC plane, its mirrors
+    /// across σ1 = σ2 and σ2 = σ3, and the three cut-off planes.
+    fn flows(psi: f64) -> [[f64; 3]; 6] {
+        let m = kk(psi);
+        [[m, 0.0, -1.0], [0.0, m, -1.0], [m, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    }
+
+    /// Largest constraint value over all six Mohr–Coulomb planes and the three cut-off planes.
+    fn worst(m: &MohrCoulomb, s: &[f64; 3]) -> f64 {
+        let (k, b) = (m.k, m.two_c_sqrt_k);
+        let mut w = f64::NEG_INFINITY;
+        for i in 0..3 {
+            for j in 0..3 {
+                if i != j {
+                    w = w.max(k * s[i] - s[j] - b);
+                }
+            }
+            if m.cutoff {
+                w = w.max(s[i] - m.sigma_t);
+            }
+        }
+        w
+    }
+
+    fn scale(s: &[f64; 3], m: &MohrCoulomb) -> f64 {
+        s[0].abs() + s[1].abs() + s[2].abs() + m.two_c_sqrt_k + 1.0
+    }
+
+    /// Small dense solve (Gaussian elimination with partial pivoting).
+    fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+        let n = b.len();
+        for c in 0..n {
+            let p = (c..n).max_by(|&i, &j| a[i][c].abs().partial_cmp(&a[j][c].abs()).unwrap())?;
+            if a[p][c].abs() < 1e-300 {
+                return None;
+            }
+            a.swap(c, p);
+            b.swap(c, p);
+            for r in 0..n {
+                if r != c {
+                    let f = a[r][c] / a[c][c];
+                    let pivot = a[c].clone();
+                    for (x, y) in a[r].iter_mut().zip(&pivot) {
+                        *x -= f * y;
+                    }
+                    b[r] -= f * b[c];
+                }
+            }
+        }
+        Some((0..n).map(|i| b[i] / a[i][i]).collect())
+    }
+
+    /// Non-negative multipliers λ with C (σ_B − σ_C) = Σ λ_i g_i for some subset of `g`
+    /// (exact fit to `tol` relative); returns the smallest residual found among non-negative fits.
+    fn flow_rule_holds(trial: &[f64; 3], ret: &[f64; 3], g: &[[f64; 3]]) -> bool {
+        let v = comply([trial[0] - ret[0], trial[1] - ret[1], trial[2] - ret[2]]);
+        let vn = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let n = g.len();
+        for mask in 1u32..(1 << n) {
+            let idx: Vec<usize> = (0..n).filter(|i| mask & (1 << i) != 0).collect();
+            if idx.len() > 3 {
+                continue;
+            }
+            let a: Vec<Vec<f64>> = idx.iter().map(|&i| idx.iter().map(|&j| dot(&g[i], &g[j])).collect()).collect();
+            let b: Vec<f64> = idx.iter().map(|&i| dot(&g[i], &v)).collect();
+            if let Some(l) = solve(a, b) {
+                let mut r = v;
+                for (q, &i) in idx.iter().enumerate() {
+                    for c in 0..3 {
+                        r[c] -= l[q] * g[i][c];
+                    }
+                }
+                let rn = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
+                if rn <= 1e-9 * vn && l.iter().all(|&x| x >= -1e-9 * vn) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    fn active_flows(region: ReturnRegion, psi: f64) -> Vec<[f64; 3]> {
+        let f = flows(psi);
+        use ReturnRegion::*;
+        match region {
+            Elastic => vec![],
+            Plane => vec![f[0]],
+            EdgeCompression => vec![f[0], f[1]],
+            EdgeExtension => vec![f[0], f[2]],
+            // All six Mohr–Coulomb planes meet at the apex.
+            Apex => {
+                let m = kk(psi);
+                vec![f[0], f[1], f[2], [-1.0, m, 0.0], [-1.0, 0.0, m], [0.0, -1.0, m]]
+            }
+            TensionPlane => vec![f[3]],
+            TensionEdge => vec![f[3], f[4]],
+            TensionCorner => vec![f[3], f[4], f[5]],
+            TensionShearEdge => vec![f[0], f[3]],
+            TensionShearCornerCompression => vec![f[0], f[1], f[3], f[4]],
+            TensionShearCornerExtension => vec![f[0], f[2], f[3]],
+        }
+    }
+
+    fn add_flow(s: [f64; 3], terms: &[(f64, [f64; 3])]) -> [f64; 3] {
+        let mut out = s;
+        for &(l, g) in terms {
+            let d = stiff(g);
+            for c in 0..3 {
+                out[c] += l * d[c];
+            }
+        }
+        out
+    }
+
+    /// Test 1: drained triaxial compression at constant lateral stress (axisymmetric kinematics:
+    /// [rr, zz, θθ, rz], L = [ε̇_r, 0, 0, ε̇_z, ε̇_θ] with ε̇_θ = ε̇_r); the lateral strain rate is
+    /// solved each step so that σ_rr = σ_θθ = −p.
+    #[test]
+    fn triaxial_compression_fails_at_closed_form_strength() {
+        for &(phi, psi, c) in &[(30.0, 0.0, 0.0), (35.0, 10.0, 0.0), (25.0, 0.0, 15e3), (30.0, 30.0, 8e3)] {
+            let m = mc(phi, psi, c, 0.0);
+            let sphi = f64::to_radians(phi).sin();
+            let cphi = f64::to_radians(phi).cos();
+            let mk = kk(psi);
+            for &p in &[20e3, 100e3, 400e3] {
+                let qf = 2.0 * (c * cphi + p * sphi) / (1.0 - sphi);
+                let mut s = [-p, -p, -p, 0.0];
+                let mut st = [0.0, 0.0];
+                let dt = 1.0;
+                let dez = -2e-5;
+                let mut peak: f64 = 0.0;
+                let mut yielded_at = None;
+                for step in 0..2000 {
+                    let run = |er: f64| {
+                        let mut s2 = s;
+                        let mut st2 = st;
+                        m.update_stress(&mut s2, &mut st2, &kin([er, 0.0, 0.0, dez, er], dt));
+                        (s2, st2)
+                    };
+                    // Secant iteration on the lateral strain rate (piecewise linear response).
+                    let (mut x0, mut x1) = (0.0, -NU * dez);
+                    let mut g0 = run(x0).0[0] + p;
+                    for _ in 0..60 {
+                        let g1 = run(x1).0[0] + p;
+                        if g1.abs() < 1e-11 * p || g1 == g0 {
+                            break;
+                        }
+                        let x2 = x1 - g1 * (x1 - x0) / (g1 - g0);
+                        x0 = x1;
+                        g0 = g1;
+                        x1 = x2;
+                    }
+                    let (s2, st2) = run(x1);
+                    s = s2;
+                    st = st2;
+                    assert!((s[0] + p).abs() < 1e-9 * p && (s[2] + p).abs() < 1e-9 * p, "lateral control {s:?}");
+                    let q = -s[1] - p;
+                    peak = peak.max(q);
+                    assert!(q <= qf * (1.0 + 1e-9), "q = {q} exceeds q_f = {qf} (phi {phi}, c {c}, p {p})");
+                    if yielded_at.is_none() && st[0] > 0.0 {
+                        yielded_at = Some(step);
+                    }
+                }
+                let y = yielded_at.expect("never yielded");
+                // Elastic until failure: q grows by (E dε_z) per step, so it yields at q_f.
+                assert!((y as f64 - qf / (E * 2e-5)).abs() <= 1.0, "yield step {y}");
+                let q = -s[1] - p;
+                assert!((q - qf).abs() <= 1e-9 * qf, "final q {q} vs {qf}");
+                assert!((peak - qf).abs() <= 1e-9 * qf);
+                if c == 0.0 {
+                    let ratio = s[1] / s[0];
+                    assert!((ratio - (1.0 + sphi) / (1.0 - sphi)).abs() < 1e-9, "σ3/σ1 = {ratio}");
+                }
+                // Dilatancy on the compression edge: Δε_v^p / Δε̄^p = 3(m − 1)/(m + 2).
+                assert!(st[0] > 1e-3, "plastic shear strain {st:?}");
+                let expect = 3.0 * (mk - 1.0) / (mk + 2.0);
+                assert!((st[1] / st[0] - expect).abs() < 1e-9, "dilatancy {} vs {expect}", st[1] / st[0]);
+            }
+        }
+    }
+
+    /// Test 2: trial stresses built as σ_C + D Σ Δλ_i b_i (Δλ_i > 0) from a point σ_C on each
+    /// part of the surface; the return must name that part and recover σ_C.
+    #[test]
+    fn each_return_region_is_reached_and_lands_on_the_surface() {
+        use ReturnRegion::*;
+        for &psi in &[30.0, 0.0, 12.0] {
+            let f = flows(psi);
+            let (phi, c, st) = (30.0, 20e3, 10e3);
+            let k = kk(phi);
+            let b = 2.0 * c * k.sqrt();
+            let with_cut = mc(phi, psi, c, st);
+            let no_cut = mc(phi, psi, c, 1e12);
+            let (apex, stc) = no_cut.apex_and_cutoff();
+            assert!((apex - c / f64::to_radians(phi).tan()).abs() < 1e-9 * apex);
+            assert!(!no_cut.cutoff && stc == apex && with_cut.cutoff);
+            let s3l = k * st - b;
+            let on = |s1: f64| k * s1 - b;
+            let l = 4e-4;
+            let mut cases: Vec<(&MohrCoulomb, [f64; 3], [f64; 3], ReturnRegion)> = vec![
+                (&no_cut, [-50e3, -100e3, on(-50e3)], add_flow([-50e3, -100e3, on(-50e3)], &[(l, f[0])]), Plane),
+                (
+                    &no_cut,
+                    [-50e3, -50e3, on(-50e3)],
+                    add_flow([-50e3, -50e3, on(-50e3)], &[(l, f[0]), (0.5 * l, f[1])]),
+                    EdgeCompression,
+                ),
+                (
+                    &no_cut,
+                    [-50e3, on(-50e3), on(-50e3)],
+                    add_flow([-50e3, on(-50e3), on(-50e3)], &[(l, f[0]), (0.3 * l, f[2])]),
+                    EdgeExtension,
+                ),
+                (&with_cut, [-5e3, -50e3, on(-5e3)], add_flow([-5e3, -50e3, on(-5e3)], &[(l, f[0])]), Plane),
+                (&with_cut, [st, 0.0, -20e3], add_flow([st, 0.0, -20e3], &[(l, f[3])]), TensionPlane),
+                (&with_cut, [st, st, -20e3], add_flow([st, st, -20e3], &[(l, f[3]), (0.2 * l, f[4])]), TensionEdge),
+                (
+                    &with_cut,
+                    [st, st, st],
+                    add_flow([st, st, st], &[(l, f[3]), (0.5 * l, f[4]), (0.1 * l, f[5])]),
+                    TensionCorner,
+                ),
+                (&with_cut, [st, -10e3, s3l], add_flow([st, -10e3, s3l], &[(l, f[0]), (l, f[3])]), TensionShearEdge),
+                (
+                    &with_cut,
+                    [st, st, s3l],
+                    add_flow([st, st, s3l], &[(l, f[0]), (0.5 * l, f[1]), (l, f[3]), (0.5 * l, f[4])]),
+                    TensionShearCornerCompression,
+                ),
+                (
+                    &with_cut,
+                    [st, s3l, s3l],
+                    add_flow([st, s3l, s3l], &[(l, f[0]), (0.5 * l, f[2]), (0.2 * l, f[3])]),
+                    TensionShearCornerExtension,
+                ),
+            ];
+            if psi == phi {
+                let a = [apex; 3];
+                cases.push((&no_cut, a, add_flow(a, &[(l, f[0]), (0.5 * l, f[1]), (0.3 * l, f[2])]), Apex));
+            } else {
+                // Non-associated: beyond the apex in hydrostatic tension.
+                cases.push((&no_cut, [apex; 3], [apex + 30e3; 3], Apex));
+                cases.push((&no_cut, [apex; 3], [apex + 30e3, apex + 20e3, apex - 10e3], Apex));
+            }
+            // Cohesionless: the apex is the origin.
+            let sand = mc(phi, psi, 0.0, 0.0);
+            cases.push((&sand, [0.0; 3], [30e3, 10e3, 5e3], Apex));
+            for (m, target, trial, region) in cases {
+                assert!(trial[0] >= trial[1] && trial[1] >= trial[2], "psi {psi} {region:?}: {trial:?}");
+                assert!(target[0] >= target[1] && target[1] >= target[2], "psi {psi} {region:?}: {target:?}");
+                let (ret, got) = m.return_principal(&trial);
+                let sc = scale(&trial, m);
+                assert_eq!(got, region, "psi {psi}: trial {trial:?} -> {ret:?}");
+                for i in 0..3 {
+                    assert!((ret[i] - target[i]).abs() <= 1e-9 * sc, "psi {psi} {region:?}: {ret:?} vs {target:?}");
+                }
+                assert!(ret[0] >= ret[1] && ret[1] >= ret[2]);
+                assert!(worst(m, &ret).abs() <= 1e-9 * sc, "{region:?}: not on the surface, {}", worst(m, &ret));
+            }
+        }
+    }
+
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
+    fn random_sorted(rng: &mut Lcg, lo: f64, hi: f64) -> [f64; 3] {
+        let mut v = [lo + (hi - lo) * rng.next(), lo + (hi - lo) * rng.next(), lo + (hi - lo) * rng.next()];
+        v.sort_by(|a, b| b.partial_cmp(a).unwrap());
+        if rng.next() < 0.1 {
+            v[1] = v[0];
+        } else if rng.next() < 0.1 {
+            v[2] = v[1];
+        }
+        v
+    }
+
+    /// Test 2 (sweep): for random trial stresses in every region and several parameter sets, the
+    /// return is sorted, admissible, on the surface, and obeys the flow rule of the region it
+    /// names (non-negative multipliers; corners of non-associated flow excepted).
+    #[test]
+    fn random_returns_are_admissible_and_obey_the_flow_rule() {
+        let mut rng = Lcg(12345);
+        let mut seen = std::collections::BTreeSet::new();
+        for &(phi, psi, c, st) in &[
+            (30.0, 0.0, 0.0, 0.0),
+            (30.0, 30.0, 20e3, 10e3),
+            (40.0, 10.0, 20e3, 0.0),
+            (20.0, 5.0, 50e3, 1e3),
+            (45.0, 45.0, 0.0, 0.0),
+        ] {
+            let m = mc(phi, psi, c, st);
+            for _ in 0..40000 {
+                let trial = random_sorted(&mut rng, -300e3, 150e3);
+                let (ret, region) = m.return_principal(&trial);
+                seen.insert(format!("{region:?}"));
+                let sc = scale(&trial, &m);
+                assert!(ret[0] >= ret[1] && ret[1] >= ret[2], "{trial:?} -> {ret:?} {region:?}");
+                let w = worst(&m, &ret);
+                if region == ReturnRegion::Elastic {
+                    assert!(w <= 1e-12 * sc && ret == trial);
+                    continue;
+                }
+                assert!(w.abs() <= 1e-9 * sc, "{trial:?} -> {ret:?} {region:?}: {w}");
+                let corner = matches!(
+                    region,
+                    ReturnRegion::Apex
+                        | ReturnRegion::TensionShearCornerCompression
+                        | ReturnRegion::TensionShearCornerExtension
+                );
+                if psi == phi || !corner {
+                    assert!(
+                        flow_rule_holds(&trial, &ret, &active_flows(region, psi)),
+                        "phi {phi} psi {psi} c {c} st {st}: {trial:?} -> {ret:?} {region:?}"
+                    );
+                }
+            }
+        }
+        assert_eq!(seen.len(), 11, "regions reached: {seen:?}");
+    }
+
+    /// Associated flow (ψ = φ) makes the return the closest point in the energy norm
+    /// (σ − σ_B)ᵀ C (σ − σ_B); checked against a brute-force projection onto every face,
+    /// edge and corner of the sorted-sector yield polytope.
+    #[test]
+    fn associated_return_is_the_closest_point_projection() {
+        let mut rng = Lcg(777);
+        for &(phi, c, st) in &[(30.0, 20e3, 10e3), (30.0, 0.0, 0.0), (40.0, 30e3, 0.0), (15.0, 10e3, 1e9)] {
+            let m = mc(phi, phi, c, st);
+            let k = m.k;
+            let b = m.two_c_sqrt_k;
+            let ts = m.sigma_t;
+            // (gradients, right-hand sides) of affine hulls.
+            let mut faces: Vec<(Vec<[f64; 3]>, Vec<f64>)> = vec![
+                (vec![[k, 0.0, -1.0]], vec![b]),
+                (vec![[k, 0.0, -1.0], [0.0, k, -1.0]], vec![b, b]),
+                (vec![[k, 0.0, -1.0], [k, -1.0, 0.0]], vec![b, b]),
+            ];
+            let mut vertices = vec![];
+            if m.cutoff {
+                faces.push((vec![[1.0, 0.0, 0.0]], vec![ts]));
+                faces.push((vec![[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![ts, ts]));
+                faces.push((vec![[k, 0.0, -1.0], [1.0, 0.0, 0.0]], vec![b, ts]));
+                let s3 = k * ts - b;
+                vertices.extend([[ts, ts, s3], [ts, s3, s3], [ts, ts, ts]]);
+            } else {
+                vertices.push([m.apex; 3]);
+            }
+            for _ in 0..20000 {
+                let trial = random_sorted(&mut rng, -300e3, 150e3);
+                let (ret, _) = m.return_principal(&trial);
+                let sc = scale(&trial, &m);
+                let dist = |s: &[f64; 3]| {
+                    let d = [s[0] - trial[0], s[1] - trial[1], s[2] - trial[2]];
+                    dot(&d, &comply(d))
+                };
+                let mut best = if worst(&m, &trial) <= 0.0 { Some((0.0, trial)) } else { None };
+                let mut consider = |s: [f64; 3]| {
+                    if worst(&m, &s) <= 1e-10 * sc {
+                        let d = dist(&s);
+                        if best.is_none_or(|(bd, _)| d < bd) {
+                            best = Some((d, s));
+                        }
+                    }
+                };
+                for v in &vertices {
+                    consider(*v);
+                }
+                for (n, h) in &faces {
+                    let dn: Vec<[f64; 3]> = n.iter().map(|g| stiff(*g)).collect();
+                    let a: Vec<Vec<f64>> = n.iter().map(|gi| dn.iter().map(|dj| dot(gi, dj)).collect()).collect();
+                    let r: Vec<f64> = n.iter().zip(h).map(|(gi, hi)| dot(gi, &trial) - hi).collect();
+                    let l = solve(a, r).unwrap();
+                    let mut s = trial;
+                    for (q, d) in dn.iter().enumerate() {
+                        for c in 0..3 {
+                            s[c] -= l[q] * d[c];
+                        }
+                    }
+                    consider(s);
+                }
+                let (_, want) = best.unwrap();
+                for i in 0..3 {
+                    assert!(
+                        (ret[i] - want[i]).abs() <= 1e-8 * sc,
+                        "phi {phi} c {c} st {st}: {trial:?} -> {ret:?}, closest {want:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    fn compliance4(d: &Stress) -> [f64; 4] {
+        let tr = d[0] + d[1] + d[2];
+        let g = E / (2.0 * (1.0 + NU));
+        [
+            ((1.0 + NU) * d[0] - NU * tr) / E,
+            ((1.0 + NU) * d[1] - NU * tr) / E,
+            ((1.0 + NU) * d[2] - NU * tr) / E,
+            d[3] / (2.0 * g),
+        ]
+    }
+
+    fn trial_of(s: &Stress, k: &Kinematics) -> Stress {
+        let mut t = *s;
+        LinearElastic::new(2000.0, E, NU).update_stress(&mut t, &mut [], k);
+        t
+    }
+
+    fn principal_full(s: &Stress) -> [f64; 3] {
+        let c = 0.5 * (s[0] + s[1]);
+        let r = (0.5 * (s[0] - s[1])).hypot(s[3]);
+        let mut v = [c + r, c - r, s[2]];
+        v.sort_by(|a, b| b.partial_cmp(a).unwrap());
+        v
+    }
+
+    /// Test 3: ψ = 0 returns from the plane region are isochoric: tr(C (σ_trial − σ)) = 0.
+    #[test]
+    fn zero_dilation_plane_return_has_no_plastic_volume_change() {
+        let m = mc(35.0, 0.0, 5e3, 0.0);
+        let mut count = 0;
+        for &(s0, l) in &[
+            ([-100e3, -60e3, -80e3, 20e3], [-1e-3, 4e-3, 1e-3, 2e-3, 0.0]),
+            ([-50e3, -200e3, -120e3, -30e3], [2e-3, 0.0, -3e-3, -1e-3, 5e-4]),
+            ([-80e3, -80e3, -300e3, 0.0], [0.0, 3e-3, 3e-3, 0.0, -2e-3]),
+        ] {
+            let k = kin(l, 1.0);
+            let trial = trial_of(&s0, &k);
+            let (_, region) = m.return_principal(&principal_full(&trial));
+            assert_eq!(region, ReturnRegion::Plane, "{trial:?}");
+            let mut s = s0;
+            let mut state = [0.0, 0.0];
+            m.update_stress(&mut s, &mut state, &k);
+            let d = [trial[0] - s[0], trial[1] - s[1], trial[2] - s[2], trial[3] - s[3]];
+            let ep = compliance4(&d);
+            let norm = ep.iter().map(|x| x * x).sum::<f64>().sqrt();
+            assert!(norm > 1e-5, "not plastic: {ep:?}");
+            assert!((ep[0] + ep[1] + ep[2]).abs() <= 1e-12 * norm, "tr = {}", ep[0] + ep[1] + ep[2]);
+            assert!(state[1].abs() <= 1e-12 * state[0] && state[0] > 0.0, "{state:?}");
+            count += 1;
+        }
+        assert_eq!(count, 3);
+    }
+
+    /// Test 4: rigid spin of a stress on the yield surface leaves its invariants unchanged (the
+    /// in-plane axes rotate, the stress stays on the surface).
+    #[test]
+    fn rigid_rotation_keeps_invariants_on_the_yield_surface() {
+        for &(phi, psi, c) in &[(30.0, 0.0, 10e3), (35.0, 35.0, 0.0)] {
+            let m = mc(phi, psi, c, 0.0);
+            let k = kk(phi);
+            let b = 2.0 * c * k.sqrt();
+            // Principal (σ1, σ2, σ3) with σ1, σ3 in plane at 25° and σ2 out of plane.
+            let (s1, s2) = (-60e3, -90e3);
+            let s3 = k * s1 - b;
+            let th = 25f64.to_radians();
+            let (cc, ss) = (th.cos(), th.sin());
+            let mut s = [s1 * cc * cc + s3 * ss * ss, s1 * ss * ss + s3 * cc * cc, s2, (s1 - s3) * cc * ss];
+            let inv = |s: &Stress| {
+                let p = (s[0] + s[1] + s[2]) / 3.0;
+                let j2 = 0.5 * ((s[0] - p).powi(2) + (s[1] - p).powi(2) + (s[2] - p).powi(2)) + s[3] * s[3];
+                (p, j2)
+            };
+            let (p0, j0) = inv(&s);
+            let s_start = s;
+            let mut state = [0.0, 0.0];
+            let steps = 20000;
+            let omega = std::f64::consts::FRAC_PI_2;
+            for _ in 0..steps {
+                m.update_stress(&mut s, &mut state, &kin([0.0, -omega, omega, 0.0, 0.0], 1.0 / steps as f64));
+                let pr = principal_full(&s);
+                assert!(m.yield_function(&pr) <= 1e-9 * s3.abs());
+            }
+            let (p1, j1) = inv(&s);
+            assert!((p1 - p0).abs() <= 1e-3 * p0.abs(), "p {p0} -> {p1}");
+            assert!((j1 - j0).abs() <= 1e-3 * j0, "J2 {j0} -> {j1}");
+            assert!((s[2] - s2).abs() <= 1e-3 * s2.abs());
+            let pr = principal_full(&s);
+            assert!(m.yield_function(&pr).abs() <= 1e-3 * s3.abs(), "left the surface: {pr:?}");
+            // A quarter turn swaps the normal components and flips the shear.
+            assert!(
+                (s[0] - s_start[1]).abs() < 1e-3 * s3.abs() && (s[1] - s_start[0]).abs() < 1e-3 * s3.abs(),
+                "{s:?}"
+            );
+            assert!((s[3] + s_start[3]).abs() < 1e-3 * s3.abs());
+        }
+    }
+
+    /// Test 5: steps that stay inside the surface equal the linear elastic update bit for bit.
+    #[test]
+    fn elastic_steps_match_linear_elastic_bit_for_bit() {
+        let m = mc(30.0, 0.0, 10e3, 0.0);
+        let le = LinearElastic::new(2000.0, E, NU);
+        let mut rng = Lcg(99);
+        let mut n = 0;
+        for _ in 0..2000 {
+            let s0 = [
+                -100e3 + 20e3 * rng.next(),
+                -100e3 + 20e3 * rng.next(),
+                -100e3 + 20e3 * rng.next(),
+                10e3 * (rng.next() - 0.5),
+            ];
+            let l = [0u8; 5].map(|_| 2e-4 * (rng.next() - 0.5));
+            let k = kin(l, 0.7);
+            let mut a = s0;
+            let mut b = s0;
+            let mut state = [0.25, -0.5];
+            m.update_stress(&mut a, &mut state, &k);
+            le.update_stress(&mut b, &mut [], &k);
+            assert!(m.yield_function(&principal_full(&a)) < 0.0);
+            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+            assert_eq!(state, [0.25, -0.5]);
+            n += 1;
+        }
+        assert_eq!(n, 2000);
+    }
+
+    /// Test 6: with ψ = φ the plastic strain increment C (σ_trial − σ) of a plane return is
+    /// parallel to ∂f/∂σ = k n1⊗n1 − n3⊗n3 (n_i the principal axes of the returned stress),
+    /// and edge returns lie in the cone of the two gradients.
+    #[test]
+    fn associated_plastic_strain_is_normal_to_the_yield_surface() {
+        let m = mc(30.0, 30.0, 10e3, 0.0);
+        let k = m.k;
+        let mut rng = Lcg(4242);
+        let mut planes = 0;
+        for _ in 0..3000 {
+            let s0 = [-150e3 * rng.next(), -150e3 * rng.next(), -150e3 * rng.next(), 60e3 * (rng.next() - 0.5)];
+            let l = [0u8; 5].map(|_| 6e-3 * (rng.next() - 0.5));
+            let kn = kin(l, 1.0);
+            let trial = trial_of(&s0, &kn);
+            let (_, region) = m.return_principal(&principal_full(&trial));
+            if region != ReturnRegion::Plane {
+                continue;
+            }
+            let mut s = s0;
+            m.update_stress(&mut s, &mut [0.0, 0.0], &kn);
+            let ep = compliance4(&[trial[0] - s[0], trial[1] - s[1], trial[2] - s[2], trial[3] - s[3]]);
+            // Gradient from the eigenvectors of the returned stress.
+            let c = 0.5 * (s[0] + s[1]);
+            let r = (0.5 * (s[0] - s[1])).hypot(s[3]);
+            let th = 0.5 * s[3].atan2(0.5 * (s[0] - s[1]));
+            let (va, vb) = ([th.cos(), th.sin()], [-th.sin(), th.cos()]);
+            let outer = |v: [f64; 2]| [v[0] * v[0], v[1] * v[1], 0.0, v[0] * v[1]];
+            let mut entries = [(c + r, outer(va)), (c - r, outer(vb)), (s[2], [0.0, 0.0, 1.0, 0.0])];
+            entries.sort_by(|a, b| b.0.partial_cmp(&a.0).unwrap());
+            let n1 = entries[0].1;
+            let n3 = entries[2].1;
+            let grad = [0, 1, 2, 3].map(|i| k * n1[i] - n3[i]);
+            // Tensor inner product (shear counted twice).
+            let ip = |a: &[f64; 4], b: &[f64; 4]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + 2.0 * a[3] * b[3];
+            let cos = ip(&ep, &grad) / (ip(&ep, &ep) * ip(&grad, &grad)).sqrt();
+            assert!(cos > 1.0 - 1e-10, "cos = {cos}, {ep:?} vs {grad:?}");
+            planes += 1;
+        }
+        assert!(planes > 100, "only {planes} plane returns");
+        // Edges: principal-space cone test.
+        let f = flows(30.0);
+        for (trial, want) in [
+            (
+                add_flow([-50e3, -50e3, k * -50e3 - m.two_c_sqrt_k], &[(1e-3, f[0]), (3e-4, f[1])]),
+                ReturnRegion::EdgeCompression,
+            ),
+            (
+                add_flow(
+                    [-50e3, k * -50e3 - m.two_c_sqrt_k, k * -50e3 - m.two_c_sqrt_k],
+                    &[(2e-4, f[0]), (1e-3, f[2])],
+                ),
+                ReturnRegion::EdgeExtension,
+            ),
+        ] {
+            let (ret, region) = m.return_principal(&trial);
+            assert_eq!(region, want);
+            assert!(flow_rule_holds(&trial, &ret, &active_flows(region, 30.0)));
+            // And not along the main plane's normal alone.
+            assert!(!flow_rule_holds(&trial, &ret, &[f[0]]));
+        }
+    }
+
+    /// Full 2D/axisymmetric updates: σ33 in every sorting position, the returned stress is coaxial
+    /// with the trial, on the surface, and cohesionless tension goes to exactly zero.
+    #[test]
+    fn full_update_is_coaxial_and_lands_on_the_surface() {
+        let mut rng = Lcg(31337);
+        for &(phi, psi, c, st) in &[(30.0, 0.0, 0.0, 0.0), (35.0, 10.0, 15e3, 5e3)] {
+            let m = mc(phi, psi, c, st);
+            for _ in 0..20000 {
+                let s0 =
+                    [0, 1, 2, 3].map(|i| if i == 3 { 80e3 * (rng.next() - 0.5) } else { -200e3 * rng.next() + 20e3 });
+                let l = [0u8; 5].map(|_| 1e-2 * (rng.next() - 0.5));
+                let kn = kin(l, 1.0);
+                let trial = trial_of(&s0, &kn);
+                let mut s = s0;
+                m.update_stress(&mut s, &mut [0.0, 0.0], &kn);
+                let pt = principal_full(&trial);
+                let ps = principal_full(&s);
+                let (want, _) = m.return_principal(&pt);
+                let sc = scale(&pt, &m);
+                for i in 0..3 {
+                    assert!((ps[i] - want[i]).abs() <= 1e-9 * sc, "{trial:?} -> {s:?}: {ps:?} vs {want:?}");
+                }
+                assert!(worst(&m, &ps) <= 1e-9 * sc);
+                // Coaxial: in-plane commutator of trial and returned stress vanishes.
+                let comm = trial[3] * (s[0] - s[1]) - s[3] * (trial[0] - trial[1]);
+                assert!(comm.abs() <= 1e-9 * sc * sc, "not coaxial: {comm}");
+            }
+        }
+        // Cohesionless, pure tension: back to exactly zero, for all σ33 positions.
+        let m = mc(30.0, 0.0, 0.0, 0.0);
+        for s0 in [[10e3, 5e3, 1e3, 2e3], [1e3, 5e3, 10e3, -2e3], [-1e3, 20e3, 3e3, 0.0]] {
+            let mut s = s0;
+            let mut state = [0.0, 0.0];
+            m.update_stress(&mut s, &mut state, &kin([0.0; 5], 1.0));
+            assert_eq!(s, [0.0; 4], "{s0:?}");
+            assert!(state[1] > 0.0);
+        }
+    }
+
+    #[test]
+    fn config_is_validated_with_key_names() {
+        let base = MaterialConfig {
+            model: "mohr_coulomb".into(),
+            density: 1550.0,
+            youngs_modulus: 1e6,
+            poisson_ratio: 0.3,
+            friction_angle: Some(30.0),
+            dilation_angle: None,
+            cohesion: None,
+            tension_cutoff: None,
+            extra: Default::default(),
+        };
+        let m = MohrCoulomb::from_config(&base).unwrap();
+        assert_eq!(m.model(), "mohr_coulomb");
+        assert_eq!(m.state_names(), &["plastic_shear_strain", "plastic_volumetric_strain"]);
+        assert_eq!((m.dilation_angle, m.cohesion, m.tension_cutoff), (0.0, 0.0, 0.0));
+        assert!((m.wave_speed() - p_wave_speed(1e6, 0.3, 1550.0)).abs() < 1e-12);
+        assert!(super::super::build("sand", &base).is_ok());
+        let err = |f: &dyn Fn(&mut MaterialConfig)| {
+            let mut c = base.clone();
+            f(&mut c);
+            MohrCoulomb::from_config(&c).err().unwrap()
+        };
+        assert!(err(&|c| c.friction_angle = None).contains("friction_angle is required"));
+        assert!(err(&|c| c.friction_angle = Some(90.0)).contains("friction_angle"));
+        assert!(err(&|c| c.friction_angle = Some(0.0)).contains("friction_angle"));
+        assert!(err(&|c| c.dilation_angle = Some(31.0)).contains("dilation_angle"));
+        assert!(err(&|c| c.dilation_angle = Some(-1.0)).contains("dilation_angle"));
+        assert!(err(&|c| c.cohesion = Some(-1.0)).contains("cohesion"));
+        assert!(err(&|c| c.tension_cutoff = Some(-1.0)).contains("tension_cutoff"));
+        assert!(err(&|c| c.poisson_ratio = 0.5).contains("poisson_ratio"));
+        assert!(err(&|c| c.youngs_modulus = 0.0).contains("youngs_modulus"));
+    }
 }

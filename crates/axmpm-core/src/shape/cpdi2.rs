@@ -1,15 +1,451 @@
-//! Placeholder: being implemented (issue #3). Falls back to the linear hat so the crate builds.
+//! CPDI2, the second-order convected particle domain interpolation (Sadeghirad, Brannon &
+//! Guilkey 2013, IJNME): each particle is a quadrilateral whose corners x_c (c = 1..4,
+//! counter-clockwise from the lower left, `particles.corners[p]`) move with the grid velocity.
+//! The hat N_i is replaced on the domain by its bilinear interpolant through the corners,
+//! N_i ≈ Σ_c N_i(x_c) M_c(ξ, η), and averaged exactly over the quadrilateral:
+//!
+//!   S_ip = Σ_c w_c N_i(x_c),   ∇S_ip = Σ_c w̃_c N_i(x_c),
+//!
+//! with V the shoelace area and, for corners 1..4,
+//!
+//!   a = (x4−x1)(y2−y3) − (x2−x3)(y4−y1),   b = (x3−x4)(y1−y2) − (x1−x2)(y3−y4),
+//!   w = [6V−a−b, 6V−a+b, 6V+a+b, 6V+a−b] / (24V),
+//!   w̃1 = (y2−y4, x4−x2)/(2V), w̃2 = (y3−y1, x1−x3)/(2V), w̃3 = −w̃1, w̃4 = −w̃2.
+//!
+//! These are PHYSICS.md §3's formulas; they are verified (not assumed) by the unit test
+//! `weights_equal_gauss_quadrature_of_the_corner_interpolant`, which integrates the corner
+//! interpolant of every N_i and its gradient over random convex quadrilaterals with 4 × 4
+//! Gauss points. (The gradient weights follow from the divergence theorem: along each edge
+//! the interpolant is linear, so ∫ ∇f dA = Σ_edges (f_c + f_c+1)/2 · n_edge |edge|.)
+//!
+//! Each corner contributes the 4 nodes of its cell (`bilinear_nodes`), so the stencil has up
+//! to 16 entries and may repeat nodes. Truncation:
+//! - nodes outside the grid are dropped; [`Cpdi2::advect_corners`] clamps corners to the grid
+//!   box, so a domain never loses weight to the outside;
+//! - axisymmetry: corners are clamped to r ≥ 0 when advected, and also (defensively) when
+//!   the stencil is evaluated, so the quadrilateral never reaches across the axis.
+//! - A degenerate or inverted quadrilateral (V ≤ 0 or not finite) falls back to the linear
+//!   hat at the particle position, so the solver does not divide by zero.
 
-use super::{ShapeFunction, Stencil};
+use super::{bilinear_nodes, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
 use crate::particles::Particles;
 
 pub struct Cpdi2;
 
+/// Shoelace area of a quadrilateral (positive for counter-clockwise corners).
+#[inline(always)]
+fn shoelace(c: &[[f64; 2]; 4]) -> f64 {
+    // 2V = (x3 − x1)(y4 − y2) − (x4 − x2)(y3 − y1) for a quadrilateral (diagonal form).
+    0.5 * ((c[2][0] - c[0][0]) * (c[3][1] - c[1][1]) - (c[3][0] - c[1][0]) * (c[2][1] - c[0][1]))
+}
+
+/// CPDI2 corner weights w_c, gradient weights w̃_c and the area V.
+#[inline(always)]
+fn corner_weights(c: &[[f64; 2]; 4]) -> ([f64; 4], [[f64; 2]; 4], f64) {
+    let [[x1, y1], [x2, y2], [x3, y3], [x4, y4]] = *c;
+    let v = shoelace(c);
+    let a = (x4 - x1) * (y2 - y3) - (x2 - x3) * (y4 - y1);
+    let b = (x3 - x4) * (y1 - y2) - (x1 - x2) * (y3 - y4);
+    let inv24 = 1.0 / (24.0 * v);
+    let six = 6.0 * v;
+    let w = [(six - a - b) * inv24, (six - a + b) * inv24, (six + a + b) * inv24, (six + a - b) * inv24];
+    let inv2 = 0.5 / v;
+    let g1 = [(y2 - y4) * inv2, (x4 - x2) * inv2];
+    let g2 = [(y3 - y1) * inv2, (x1 - x3) * inv2];
+    (w, [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]], v)
+}
+
 impl ShapeFunction for Cpdi2 {
     const NAME: &'static str = "cpdi2";
+    const USES_CORNERS: bool = true;
 
+    #[inline(always)]
     fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil) {
-        super::Linear::stencil(grid, particles, p, axisymmetric, out)
+        out.clear();
+        let mut c = particles.corners[p];
+        if axisymmetric {
+            for corner in c.iter_mut() {
+                corner[0] = corner[0].max(0.0);
+            }
+        }
+        let (w, wg, v) = corner_weights(&c);
+        if !(v > 0.0 && v.is_finite()) {
+            bilinear_nodes(grid, particles.position[p], |node, s, g| out.push(node, s, g));
+            return;
+        }
+        for k in 0..4 {
+            let (wk, gk) = (w[k], wg[k]);
+            bilinear_nodes(grid, c[k], |node, n, _| out.push(node, wk * n, [gk[0] * n, gk[1] * n]));
+        }
+    }
+
+    #[inline(always)]
+    fn domain_area(particles: &Particles, p: usize) -> Option<f64> {
+        Some(shoelace(&particles.corners[p]))
+    }
+
+    /// x_c ← x_c + dt Σ_i N_i(x_c) v_i, with the corner first clamped into the grid box (so a
+    /// corner that left the grid is brought back and sees the velocity of the edge cell) and
+    /// the moved corner clamped into the box again; in axisymmetry also r ≥ 0.
+    #[inline(always)]
+    fn advect_corners(
+        grid: &GridGeometry,
+        nodal_velocity: &[[f64; 2]],
+        dt: f64,
+        corners: &mut [[f64; 2]; 4],
+        axisymmetric: bool,
+    ) {
+        let lo = grid.origin;
+        let hi = grid.upper();
+        for c in corners.iter_mut() {
+            let q = [c[0].max(lo[0]).min(hi[0]), c[1].max(lo[1]).min(hi[1])];
+            let mut v = [0.0; 2];
+            bilinear_nodes(grid, q, |node, n, _| {
+                let vi = nodal_velocity[node];
+                v[0] += n * vi[0];
+                v[1] += n * vi[1];
+            });
+            c[0] = (q[0] + dt * v[0]).max(lo[0]).min(hi[0]);
+            c[1] = (q[1] + dt * v[1]).max(lo[1]).min(hi[1]);
+            if axisymmetric {
+                c[0] = c[0].max(0.0);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shape::testing::*;
+    use crate::shape::{hat, Linear};
+
+    /// xorshift64*: deterministic random numbers in [0, 1) without a dependency.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn range(&mut self, a: f64, b: f64) -> f64 {
+            a + (b - a) * self.next()
+        }
+    }
+
+    /// A random strictly convex counter-clockwise quadrilateral centred near `centre`:
+    /// a rotated, stretched square with each corner perturbed, rejected until convex.
+    fn random_convex_quad(rng: &mut Rng, centre: [f64; 2], size: f64) -> [[f64; 2]; 4] {
+        loop {
+            let th = rng.range(0.0, std::f64::consts::TAU);
+            let (s, c) = th.sin_cos();
+            let (hx, hy) = (size * rng.range(0.2, 1.0), size * rng.range(0.2, 1.0));
+            let shear = rng.range(-0.8, 0.8);
+            let mut q = [[0.0; 2]; 4];
+            for (k, (u, v)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
+                let u = u + rng.range(-0.45, 0.45);
+                let v = v + rng.range(-0.45, 0.45);
+                let (px, py) = (hx * (u + shear * v), hy * v);
+                q[k] = [centre[0] + c * px - s * py, centre[1] + s * px + c * py];
+            }
+            let convex = (0..4).all(|k| {
+                let (a, b, d) = (q[k], q[(k + 1) % 4], q[(k + 2) % 4]);
+                (b[0] - a[0]) * (d[1] - b[1]) - (b[1] - a[1]) * (d[0] - b[0]) > 1e-3 * size * size
+            });
+            if convex {
+                return q;
+            }
+        }
+    }
+
+    fn particle_with_corners(c: [[f64; 2]; 4]) -> Particles {
+        let centre = [(c[0][0] + c[1][0] + c[2][0] + c[3][0]) / 4.0, (c[0][1] + c[1][1] + c[2][1] + c[3][1]) / 4.0];
+        let mut p = single_particle(centre, [0.01, 0.01]);
+        p.corners[0] = c;
+        p
+    }
+
+    fn cpdi2(c: [[f64; 2]; 4], axisymmetric: bool) -> Stencil {
+        let mut st = Stencil::default();
+        Cpdi2::stencil(&grid(), &particle_with_corners(c), 0, axisymmetric, &mut st);
+        st
+    }
+
+    /// (1/A) ∫_Ω f_i dA and (1/A) ∫_Ω ∇f_i dA for the corner interpolant
+    /// f_i = Σ_c N_i(x_c) M_c(ξ, η), by 4 × 4 Gauss quadrature on the bilinear map.
+    fn gauss_reference(g: &GridGeometry, c: &[[f64; 2]; 4], i: usize, j: usize) -> (f64, [f64; 2]) {
+        let gp = [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
+        let gw = [0.347_854_845_137_453_9, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_9];
+        let signs = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+        let nc: Vec<f64> = c
+            .iter()
+            .map(|&x| {
+                let l = g.local(x);
+                hat(l[0] - i as f64).0 * hat(l[1] - j as f64).0
+            })
+            .collect();
+        let (mut area, mut s, mut grad) = (0.0, 0.0, [0.0; 2]);
+        for (a, &xi) in gp.iter().enumerate() {
+            for (b, &eta) in gp.iter().enumerate() {
+                let (mut m, mut dxi, mut deta) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+                for (k, &(sx, sy)) in signs.iter().enumerate() {
+                    m[k] = 0.25 * (1.0 + sx * xi) * (1.0 + sy * eta);
+                    dxi[k] = 0.25 * sx * (1.0 + sy * eta);
+                    deta[k] = 0.25 * (1.0 + sx * xi) * sy;
+                }
+                let mut jac = [[0.0; 2]; 2]; // jac[r][s] = ∂x_r/∂ξ_s
+                for k in 0..4 {
+                    for r in 0..2 {
+                        jac[r][0] += dxi[k] * c[k][r];
+                        jac[r][1] += deta[k] * c[k][r];
+                    }
+                }
+                let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+                let wq = gw[a] * gw[b] * det;
+                let (mut f, mut df) = (0.0, [0.0; 2]);
+                for k in 0..4 {
+                    f += nc[k] * m[k];
+                    // ∇M = J⁻ᵀ (∂M/∂ξ, ∂M/∂η)
+                    let gx = (jac[1][1] * dxi[k] - jac[1][0] * deta[k]) / det;
+                    let gy = (-jac[0][1] * dxi[k] + jac[0][0] * deta[k]) / det;
+                    df[0] += nc[k] * gx;
+                    df[1] += nc[k] * gy;
+                }
+                area += wq;
+                s += wq * f;
+                grad[0] += wq * df[0];
+                grad[1] += wq * df[1];
+            }
+        }
+        (s / area, [grad[0] / area, grad[1] / area])
+    }
+
+    #[test]
+    fn weights_equal_gauss_quadrature_of_the_corner_interpolant() {
+        let g = grid();
+        let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+        let (mut worst_w, mut worst_g) = (0.0f64, 0.0f64);
+        for _ in 0..500 {
+            let centre = [rng.range(0.3, 0.7), rng.range(0.3, 0.7)];
+            let size = rng.range(0.005, 0.12);
+            let c = random_convex_quad(&mut rng, centre, size);
+            let st = cpdi2(c, false);
+            let nodes = per_node(&st);
+            let gscale = 1.0 / size; // gradients scale like 1/size
+            for i in 0..g.nodes[0] {
+                for j in 0..g.nodes[1] {
+                    let (s_ref, g_ref) = gauss_reference(&g, &c, i, j);
+                    let n = g.node_index(i, j) as u32;
+                    let (s, gr) = nodes.iter().find(|e| e.0 == n).map(|e| (e.1, e.2)).unwrap_or((0.0, [0.0; 2]));
+                    worst_w = worst_w.max((s - s_ref).abs());
+                    worst_g = worst_g.max((gr[0] - g_ref[0]).abs().max((gr[1] - g_ref[1]).abs()) / gscale);
+                }
+            }
+        }
+        eprintln!("CPDI2 vs Gauss: max |ΔS| = {worst_w:e}, max |Δ∇S|·size = {worst_g:e}");
+        assert!(worst_w < 1e-12, "weights differ from quadrature by {worst_w}");
+        assert!(worst_g < 1e-12, "gradients differ from quadrature by {worst_g} (relative to 1/size)");
+    }
+
+    #[test]
+    fn partition_of_unity_and_zero_gradient_sum() {
+        check_partition_of_unity::<Cpdi2>([0.025, 0.025], false);
+        check_partition_of_unity::<Cpdi2>([0.05, 0.0125], false);
+        check_partition_of_unity::<Cpdi2>([0.025, 0.025], true);
+        let mut rng = Rng(42);
+        for _ in 0..2000 {
+            let ctr = [rng.range(0.3, 0.7), rng.range(0.3, 0.7)];
+            let sz = rng.range(0.001, 0.2);
+            let c = random_convex_quad(&mut rng, ctr, sz);
+            if !c.iter().all(|&x| grid().contains(x)) {
+                continue; // partition of unity only holds for domains inside the grid
+            }
+            let st = cpdi2(c, false);
+            assert!((st.weight_sum() - 1.0).abs() < 1e-12, "ΣS = {} for {c:?}", st.weight_sum());
+            let gs = st.gradient_sum();
+            assert!(gs[0].abs() < 1e-9 && gs[1].abs() < 1e-9, "Σ∇S = {gs:?} for {c:?}");
+        }
+    }
+
+    #[test]
+    fn partition_of_unity_near_the_axis() {
+        let mut xs = Vec::new();
+        for r in [0.001, 0.01, 0.0125, 0.02, 0.025, 0.03, 0.05, 0.07, 0.1, 0.11] {
+            for z in [0.3, 0.3125, 0.347] {
+                xs.push([r, z]);
+            }
+        }
+        // Rectangles reaching across the axis are clamped to r ≥ 0.
+        check_partition_of_unity_at::<Cpdi2>(&xs, [0.025, 0.025], true);
+        check_partition_of_unity_at::<Cpdi2>(&xs, [0.05, 0.05], true);
+        // Quads touching the axis.
+        let mut rng = Rng(7);
+        for _ in 0..500 {
+            let mut c = {
+                let ctr = [rng.range(0.0, 0.1), rng.range(0.3, 0.7)];
+                let sz = rng.range(0.005, 0.05);
+                random_convex_quad(&mut rng, ctr, sz)
+            };
+            let shift = c.iter().map(|x| x[0]).fold(f64::INFINITY, f64::min).min(0.0);
+            for x in c.iter_mut() {
+                x[0] -= shift; // min r = 0 at worst
+            }
+            let st = cpdi2(c, true);
+            assert!((st.weight_sum() - 1.0).abs() < 1e-12);
+            let gs = st.gradient_sum();
+            assert!(gs[0].abs() < 1e-9 && gs[1].abs() < 1e-9);
+        }
+        // Without the clamp (plane strain) a domain across the axis loses weight.
+        let st = cpdi2(Particles::rectangle_corners([0.01, 0.5], [0.025, 0.025]), false);
+        assert!(st.weight_sum() < 1.0 - 1e-3);
+    }
+
+    #[test]
+    fn rectangle_inside_one_cell_gives_the_bilinear_value_at_its_centroid() {
+        let g = grid();
+        let mut lin = Stencil::default();
+        for (x, half) in
+            [([0.137, 0.262], [0.02, 0.03]), ([0.45, 0.55], [0.049, 0.049]), ([0.71, 0.33], [0.001, 0.015])]
+        {
+            let st = cpdi2(Particles::rectangle_corners(x, half), false);
+            Linear::stencil(&g, &single_particle(x, half), 0, false, &mut lin);
+            let (dw, dg) = stencil_difference(&st, &lin);
+            assert!(dw < 1e-14 && dg < 1e-11, "at {x:?}: Δw = {dw}, Δ∇ = {dg}");
+        }
+    }
+
+    #[test]
+    fn weights_are_continuous_across_cell_faces() {
+        let mut rng = Rng(99);
+        for _ in 0..50 {
+            let c0 = {
+                let ctr = [0.5, 0.5];
+                let sz = rng.range(0.01, 0.08);
+                random_convex_quad(&mut rng, ctr, sz)
+            };
+            for dir in 0..2 {
+                // Put each corner, then the centroid, on the face x = 0.4 (or y = 0.4).
+                let mut targets: Vec<f64> = c0.iter().map(|x| x[dir]).collect();
+                targets.push(c0.iter().map(|x| x[dir]).sum::<f64>() / 4.0);
+                for t in targets {
+                    let shifted = |d: f64| {
+                        let mut c = c0;
+                        for x in c.iter_mut() {
+                            x[dir] += 0.4 - t + d;
+                        }
+                        cpdi2(c, false)
+                    };
+                    let (dw, _) = stencil_difference(&shifted(-1e-9), &shifted(1e-9));
+                    assert!(dw < 1e-7, "weight jump {dw}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn domain_area_is_the_shoelace_area() {
+        let p = particle_with_corners(Particles::rectangle_corners([0.4, 0.6], [0.02, 0.03]));
+        assert!((Cpdi2::domain_area(&p, 0).unwrap() - 4.0 * 0.02 * 0.03).abs() < 1e-15);
+        // Triangle-like quad (0,0), (2,0), (2,1), (0,3): area 2·1 + 2·2/2 = 4.
+        let p = particle_with_corners([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 3.0]]);
+        assert!((Cpdi2::domain_area(&p, 0).unwrap() - 4.0).abs() < 1e-14);
+        // Generic quad against the edge-sum shoelace formula.
+        let mut rng = Rng(5);
+        for _ in 0..100 {
+            let c = {
+                let ctr = [0.5, 0.5];
+                let sz = 0.1;
+                random_convex_quad(&mut rng, ctr, sz)
+            };
+            let edge: f64 =
+                (0..4).map(|k| c[k][0] * c[(k + 1) % 4][1] - c[(k + 1) % 4][0] * c[k][1]).sum::<f64>() / 2.0;
+            let p = particle_with_corners(c);
+            assert!((Cpdi2::domain_area(&p, 0).unwrap() - edge).abs() < 1e-15);
+            assert!(edge > 0.0);
+        }
+    }
+
+    #[test]
+    fn advect_corners_with_uniform_velocity_translates_the_domain() {
+        let g = grid();
+        let v = [0.37, -1.3];
+        let vel = vec![v; g.num_nodes()];
+        let dt = 1e-3;
+        let mut rng = Rng(11);
+        for _ in 0..100 {
+            let c0 = {
+                let ctr = [rng.range(0.2, 0.8), rng.range(0.2, 0.8)];
+                let sz = 0.1;
+                random_convex_quad(&mut rng, ctr, sz)
+            };
+            for axi in [false, true] {
+                let mut c = c0;
+                Cpdi2::advect_corners(&g, &vel, dt, &mut c, axi);
+                for k in 0..4 {
+                    assert!((c[k][0] - (c0[k][0] + v[0] * dt)).abs() < 1e-15);
+                    assert!((c[k][1] - (c0[k][1] + v[1] * dt)).abs() < 1e-15);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn advect_corners_reproduces_a_linear_velocity_field() {
+        // Bilinear interpolation is exact for a linear field: each corner moves by dt v(x_c).
+        let g = grid();
+        let field = |x: [f64; 2]| [0.3 + 2.0 * x[0] - 0.7 * x[1], -0.1 + 0.4 * x[0] + 1.1 * x[1]];
+        let vel: Vec<[f64; 2]> = (0..g.num_nodes()).map(|n| field(g.node_position(n))).collect();
+        let mut rng = Rng(13);
+        for _ in 0..100 {
+            let c0 = {
+                let ctr = [rng.range(0.2, 0.8), rng.range(0.2, 0.8)];
+                let sz = 0.1;
+                random_convex_quad(&mut rng, ctr, sz)
+            };
+            let mut c = c0;
+            Cpdi2::advect_corners(&g, &vel, 0.01, &mut c, false);
+            for k in 0..4 {
+                let vk = field(c0[k]);
+                assert!((c[k][0] - (c0[k][0] + 0.01 * vk[0])).abs() < 1e-14);
+                assert!((c[k][1] - (c0[k][1] + 0.01 * vk[1])).abs() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn advect_corners_clamps_to_the_axis_and_the_grid_box() {
+        let g = grid();
+        let vel = vec![[-2.0, 3.0]; g.num_nodes()];
+        // dt v = (−0.02, 0.03): r = 0.005 → 0 (axis), z = 0.99 → 1 (top of the grid).
+        let mut c = [[0.005, 0.95], [0.05, 0.95], [0.05, 0.99], [0.005, 0.99]];
+        Cpdi2::advect_corners(&g, &vel, 0.01, &mut c, true);
+        assert_eq!(c[0][0], 0.0);
+        assert!((c[0][1] - 0.98).abs() < 1e-15);
+        assert!((c[1][0] - 0.03).abs() < 1e-15 && (c[1][1] - 0.98).abs() < 1e-15);
+        assert!((c[2][0] - 0.03).abs() < 1e-15 && c[2][1] == 1.0);
+        assert_eq!(c[3], [0.0, 1.0]);
+        // In axisymmetry the axis clamp holds even when the grid starts left of r = 0.
+        let g2 = GridGeometry::new([-0.2, 0.0], [1.2, 1.0], 0.1);
+        let mut c = [[0.005, 0.5], [0.05, 0.5], [0.05, 0.6], [0.005, 0.6]];
+        Cpdi2::advect_corners(&g2, &vec![[-2.0, 0.0]; g2.num_nodes()], 0.01, &mut c, true);
+        assert_eq!(c[0][0], 0.0);
+        assert!((c[1][0] - 0.03).abs() < 1e-15);
+        // A corner already outside the grid is brought back into the box.
+        let mut c = [[-0.2, 0.5], [1.3, 0.5], [0.5, 1.4], [0.5, -0.1]];
+        Cpdi2::advect_corners(&g, &vec![[0.0; 2]; g.num_nodes()], 0.01, &mut c, false);
+        assert_eq!(c, [[0.0, 0.5], [1.0, 0.5], [0.5, 1.0], [0.5, 0.0]]);
+    }
+
+    #[test]
+    fn degenerate_domain_falls_back_to_linear() {
+        let g = grid();
+        let mut p = particle_with_corners([[0.42, 0.5]; 4]);
+        p.position[0] = [0.42, 0.5];
+        let (mut st, mut lin) = (Stencil::default(), Stencil::default());
+        Cpdi2::stencil(&g, &p, 0, false, &mut st);
+        Linear::stencil(&g, &p, 0, false, &mut lin);
+        assert_eq!(stencil_difference(&st, &lin), (0.0, 0.0));
     }
 }

@@ -146,6 +146,54 @@ pub fn bilinear_nodes(grid: &GridGeometry, x: [f64; 2], mut visit: impl FnMut(us
     }
 }
 
+/// `x.floor()` without the libm call: on the baseline x86-64 target `f64::floor` is a
+/// software routine (no SSE4.1 `roundsd`), several times slower than this truncate-and-fix.
+/// Exact for |x| < 2⁶³; NaN gives 0.
+#[inline(always)]
+pub fn fast_floor(x: f64) -> f64 {
+    let t = x as i64;
+    (t - ((t as f64) > x) as i64) as f64
+}
+
+/// Generalised GIMP 1D weight and its derivative (Bardenhagen & Kober 2004):
+/// S(ξ) = (1/(2 l)) ∫_{ξ−l}^{ξ+l} N(s) ds, the exact average of the hat N over the particle
+/// domain, with `u = ξ/h = (x_p − x_i)/h` and `lam = l/h` both in cell units. Returns
+/// (S, dS/du); multiply the derivative by 1/h for physical units.
+///
+/// Valid for any 0 ≤ lam ≤ 1 (a domain of half-width up to one cell); for lam ≤ 1/2 it equals
+/// the five-piece formula of PHYSICS.md §3, and lam = 0 gives the hat itself. The integral is
+/// evaluated piece by piece over the two linear branches of the hat (length × midpoint value;
+/// derivative = Σ slope × length / (2 lam)), so there is no cancellation for small lam: at
+/// lam → 0 the result tends to the hat to rounding.
+#[inline(always)]
+pub fn gimp_weight(u: f64, lam: f64) -> (f64, f64) {
+    if lam <= 0.0 {
+        return hat(u);
+    }
+    let a = u - lam;
+    let b = u + lam;
+    let mut s = 0.0;
+    let mut d = 0.0;
+    // Rising branch N = 1 + s on [−1, 0].
+    if a < 0.0 && b > -1.0 {
+        let lo = a.max(-1.0);
+        let hi = b.min(0.0);
+        let len = if a >= -1.0 && b <= 0.0 { 2.0 * lam } else { hi - lo };
+        s += len * (1.0 + 0.5 * (lo + hi));
+        d += len;
+    }
+    // Falling branch N = 1 − s on [0, 1].
+    if b > 0.0 && a < 1.0 {
+        let lo = a.max(0.0);
+        let hi = b.min(1.0);
+        let len = if a >= 0.0 && b <= 1.0 { 2.0 * lam } else { hi - lo };
+        s += len * (1.0 - 0.5 * (lo + hi));
+        d -= len;
+    }
+    let inv = 0.5 / lam;
+    (s * inv, d * inv)
+}
+
 #[cfg(test)]
 pub(crate) mod testing {
     //! Helpers shared by the per-scheme unit tests.
@@ -181,5 +229,55 @@ pub(crate) mod testing {
                 assert!(gs[0].abs() < 1e-10 && gs[1].abs() < 1e-10, "{}: Σ∇S = {:?} at {:?}", S::NAME, gs, x);
             }
         }
+    }
+
+    /// Asserts partition of unity and Σ∇S = 0 for scheme `S` at the given positions.
+    pub fn check_partition_of_unity_at<S: ShapeFunction>(positions: &[[f64; 2]], half: [f64; 2], axisymmetric: bool) {
+        let g = grid();
+        let mut st = Stencil::default();
+        for &x in positions {
+            let p = single_particle(x, half);
+            S::stencil(&g, &p, 0, axisymmetric, &mut st);
+            assert!((st.weight_sum() - 1.0).abs() < 1e-12, "{}: ΣS = {} at {:?}", S::NAME, st.weight_sum(), x);
+            let gs = st.gradient_sum();
+            assert!(gs[0].abs() < 1e-10 && gs[1].abs() < 1e-10, "{}: Σ∇S = {:?} at {:?}", S::NAME, gs, x);
+        }
+    }
+
+    /// Stencil entries summed per node (CPDI2 repeats nodes), sorted by node.
+    pub fn per_node(st: &Stencil) -> Vec<(u32, f64, [f64; 2])> {
+        let mut v: Vec<(u32, f64, [f64; 2])> = Vec::new();
+        for k in 0..st.len {
+            match v.iter_mut().find(|e| e.0 == st.node[k]) {
+                Some(e) => {
+                    e.1 += st.weight[k];
+                    e.2[0] += st.gradient[k][0];
+                    e.2[1] += st.gradient[k][1];
+                }
+                None => v.push((st.node[k], st.weight[k], st.gradient[k])),
+            }
+        }
+        v.sort_by_key(|e| e.0);
+        v
+    }
+
+    /// Largest differences (weight, gradient) between two stencils, node by node; a node
+    /// missing from one side counts as zero there.
+    pub fn stencil_difference(a: &Stencil, b: &Stencil) -> (f64, f64) {
+        let (pa, pb) = (per_node(a), per_node(b));
+        let mut nodes: Vec<u32> = pa.iter().chain(pb.iter()).map(|e| e.0).collect();
+        nodes.sort();
+        nodes.dedup();
+        let get = |v: &Vec<(u32, f64, [f64; 2])>, n: u32| {
+            v.iter().find(|e| e.0 == n).map(|e| (e.1, e.2)).unwrap_or((0.0, [0.0; 2]))
+        };
+        let (mut dw, mut dg) = (0.0f64, 0.0f64);
+        for n in nodes {
+            let (wa, ga) = get(&pa, n);
+            let (wb, gb) = get(&pb, n);
+            dw = dw.max((wa - wb).abs());
+            dg = dg.max((ga[0] - gb[0]).abs()).max((ga[1] - gb[1]).abs());
+        }
+        (dw, dg)
     }
 }

@@ -1,6 +1,24 @@
-//! Placeholder: being implemented (issue #3). Falls back to the linear hat so the crate builds.
+//! uGIMP, the uniform generalised interpolation material point method (Bardenhagen & Kober
+//! 2004): each particle is a square-ish domain of fixed half-widths `initial_half_width[p]`
+//! (per direction) and S_ip is the average of the bilinear hat of node i over that domain.
+//!
+//! - 1D weight: [`gimp_weight`], the exact average (1/(2 l)) ∫ N_i over [x_p − l, x_p + l]. For
+//!   l ≤ h/2 it is the five-piece formula of PHYSICS.md §3; it stays valid up to l = h.
+//! - 2D: tensor product S = S_x S_y, ∇S = (S_x' S_y, S_x S_y') in physical units.
+//! - Stencil: the nodes whose support (|x − x_i| < h) overlaps the domain, i.e. the integers
+//!   strictly inside (x_p − l − h, x_p + l + h)/h: at most 3 per direction for l ≤ h/2 and 4
+//!   for l ≤ h. Half-widths are clamped to [0, h] so the stencil never exceeds 4 × 4 =
+//!   [`MAX_STENCIL`](super::MAX_STENCIL) entries. Entries of zero weight are not written.
+//! - Grid edges: nodes outside the grid are dropped (the shared convention of [`super`]).
+//! - Axis (axisymmetric runs): the radial half-width is shrunk to
+//!   l_r = min(l_r, R_p − origin_r), keeping the domain centred on the particle, so the
+//!   domain ends at the axis at worst and never reaches r < 0 (the grid origin is r = 0 in
+//!   axisymmetry). Partition of unity therefore still holds next to the axis. The axial
+//!   half-width is untouched.
 
-use super::{ShapeFunction, Stencil};
+#[cfg(doc)]
+use super::gimp_weight;
+use super::{fast_floor, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
 use crate::particles::Particles;
 
@@ -9,7 +27,312 @@ pub struct UGimp;
 impl ShapeFunction for UGimp {
     const NAME: &'static str = "ugimp";
 
+    #[inline(always)]
     fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil) {
-        super::Linear::stencil(grid, particles, p, axisymmetric, out)
+        gimp_stencil(grid, particles.position[p], particles.initial_half_width[p], axisymmetric, out)
+    }
+}
+
+/// Nodes and 1D weights of one direction: up to 4 (node index, S, dS/dx in physical units).
+struct Axis1d {
+    len: usize,
+    index: [usize; 4],
+    weight: [f64; 4],
+    derivative: [f64; 4],
+}
+
+/// 1D GIMP nodes of one direction: `l` the particle position in cell units, `lam` the
+/// half-width in cell units (already in [0, 1]), `n` the number of nodes in that direction.
+///
+/// Cell by cell: the domain [α, β] = [l − lam, l + lam] meets at most 3 cells; on cell k the
+/// clipped part [p, q] (local coordinates in [0, 1]) adds (q − p)(1 − m) to node k and
+/// (q − p) m to node k + 1, m = (p + q)/2 (the exact integral of the two hats), and the total
+/// is divided by β − α. This equals [`gimp_weight`] for every node (tested) at a fraction of
+/// the cost. The derivative is (N_i(β) − N_i(α)) / (β − α) · 1/h, which only touches the
+/// cells of the two domain ends.
+#[inline(always)]
+fn axis_weights(l: f64, lam: f64, n: usize, ih: f64) -> Axis1d {
+    let mut ax = Axis1d { len: 0, index: [0; 4], weight: [0.0; 4], derivative: [0.0; 4] };
+    let mut w = [0.0; 4];
+    let mut d = [0.0; 4];
+    let k0: i64;
+    let count: usize;
+    if lam > 0.0 {
+        let alpha = l - lam;
+        let beta = l + lam;
+        let k0f = fast_floor(alpha);
+        k0 = k0f as i64;
+        // β − α ≤ 2 cells, so at most 3 cells and 4 nodes.
+        let cells = ((fast_floor(beta) - k0f) as usize).min(2);
+        let inv = 1.0 / (beta - alpha);
+        for c in 0..=cells {
+            let k = k0f + c as f64;
+            let p = alpha.max(k) - k;
+            let q = beta.min(k + 1.0) - k;
+            let len = q - p;
+            let m = 0.5 * (p + q);
+            w[c] += len * (1.0 - m);
+            w[c + 1] += len * m;
+        }
+        for v in w.iter_mut().take(cells + 2) {
+            *v *= inv;
+        }
+        // Hats at the ends: N(β) on the nodes of β's cell, N(α) on those of α's cell.
+        let fa = alpha - k0f;
+        let cb = cells; // β lies in the last cell
+        let fb = beta - (k0f + cb as f64);
+        let s = inv * ih;
+        d[0] -= (1.0 - fa) * s;
+        d[1] -= fa * s;
+        d[cb] += (1.0 - fb) * s;
+        d[cb + 1] += fb * s;
+        count = cells + 2;
+    } else {
+        // Point particle: the linear hat on the two nodes of the cell (as `bilinear_nodes`).
+        let c = fast_floor(l);
+        let f = l - c;
+        k0 = c as i64;
+        w[0] = 1.0 - f;
+        w[1] = f;
+        d[0] = -ih;
+        d[1] = ih;
+        count = 2;
+    }
+    for c in 0..count {
+        let i = k0 + c as i64;
+        if i < 0 || i >= n as i64 || (w[c] <= 0.0 && lam > 0.0) {
+            continue;
+        }
+        ax.index[ax.len] = i as usize;
+        ax.weight[ax.len] = w[c];
+        ax.derivative[ax.len] = d[c];
+        ax.len += 1;
+    }
+    ax
+}
+
+/// GIMP stencil of a particle at `x` with half-widths `half` (physical units). Shared by
+/// uGIMP and cpGIMP. Half-widths are clamped to [0, h]; in axisymmetry the radial one is
+/// further shrunk to the distance R_p − origin_r from the axis (see the module docs).
+#[inline(always)]
+#[allow(clippy::manual_clamp)] // `clamp` would propagate NaN; see below
+pub(crate) fn gimp_stencil(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool, out: &mut Stencil) {
+    out.clear();
+    let ih = grid.inverse_cell_size;
+    let l = grid.local(x);
+    // `max` before `min` maps NaN to 0 (a point particle) instead of propagating it.
+    let mut lam = [(half[0] * ih).max(0.0).min(1.0), (half[1] * ih).max(0.0).min(1.0)];
+    if axisymmetric {
+        // R_p − origin_r in cell units is l[0].
+        lam[0] = lam[0].min(l[0].max(0.0));
+    }
+    let ax = axis_weights(l[0], lam[0], grid.nodes[0], ih);
+    let ay = axis_weights(l[1], lam[1], grid.nodes[1], ih);
+    for b in 0..ay.len {
+        let row = ay.index[b] * grid.nodes[0];
+        let (wy, dy) = (ay.weight[b], ay.derivative[b]);
+        for a in 0..ax.len {
+            let (wx, dx) = (ax.weight[a], ax.derivative[a]);
+            out.push(row + ax.index[a], wx * wy, [dx * wy, wx * dy]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shape::testing::*;
+    use crate::shape::{gimp_weight, Linear};
+
+    /// The five-piece 1D formula of PHYSICS.md §3 (physical units) and its derivative.
+    fn piecewise(xi: f64, l: f64, h: f64) -> (f64, f64) {
+        if xi <= -h - l || xi > h + l {
+            (0.0, 0.0)
+        } else if xi <= -h + l {
+            ((h + l + xi).powi(2) / (4.0 * h * l), (h + l + xi) / (2.0 * h * l))
+        } else if xi <= -l {
+            (1.0 + xi / h, 1.0 / h)
+        } else if xi <= l {
+            (1.0 - (xi * xi + l * l) / (2.0 * h * l), -xi / (h * l))
+        } else if xi <= h - l {
+            (1.0 - xi / h, -1.0 / h)
+        } else {
+            ((h + l - xi).powi(2) / (4.0 * h * l), -(h + l - xi) / (2.0 * h * l))
+        }
+    }
+
+    fn ugimp(x: [f64; 2], half: [f64; 2], axisymmetric: bool) -> Stencil {
+        let mut st = Stencil::default();
+        UGimp::stencil(&grid(), &single_particle(x, half), 0, axisymmetric, &mut st);
+        st
+    }
+
+    #[test]
+    fn partition_of_unity_and_zero_gradient_sum() {
+        for half in [[0.025, 0.025], [0.05, 0.05], [0.0125, 0.05], [0.05, 0.01]] {
+            check_partition_of_unity::<UGimp>(half, false);
+            check_partition_of_unity::<UGimp>(half, true);
+        }
+    }
+
+    #[test]
+    fn partition_of_unity_near_the_axis() {
+        let mut xs = Vec::new();
+        for r in [1e-6, 0.001, 0.005, 0.0125, 0.02, 0.025, 0.03, 0.049, 0.05, 0.051, 0.07, 0.099, 0.1, 0.11] {
+            for z in [0.3, 0.3125, 0.347, 0.55] {
+                xs.push([r, z]);
+            }
+        }
+        for half in [[0.025, 0.025], [0.05, 0.05], [0.0125, 0.0125]] {
+            check_partition_of_unity_at::<UGimp>(&xs, half, true);
+        }
+    }
+
+    #[test]
+    fn axis_truncation_shrinks_the_radial_half_width_only() {
+        // R_p = 0.005 < l_r = 0.025: the domain becomes [0, 0.01] × [z − 0.025, z + 0.025].
+        let a = ugimp([0.005, 0.43], [0.025, 0.025], true);
+        let b = ugimp([0.005, 0.43], [0.005, 0.025], false);
+        assert_eq!(stencil_difference(&a, &b), (0.0, 0.0));
+        // Without truncation the domain crosses the axis and loses weight to the dropped
+        // node at r = −h: partition of unity fails in plane strain, as it should.
+        let c = ugimp([0.005, 0.43], [0.025, 0.025], false);
+        assert!(c.weight_sum() < 1.0 - 1e-4);
+        // Away from the axis nothing changes.
+        let d = ugimp([0.3, 0.43], [0.025, 0.025], true);
+        let e = ugimp([0.3, 0.43], [0.025, 0.025], false);
+        assert_eq!(stencil_difference(&d, &e), (0.0, 0.0));
+    }
+
+    #[test]
+    fn nodes_outside_the_grid_are_dropped() {
+        let g = grid();
+        for x in [[0.01, 0.5], [0.5, 0.99], [0.0, 0.0], [1.0, 1.0]] {
+            let st = ugimp(x, [0.05, 0.05], false);
+            for k in 0..st.len {
+                assert!((st.node[k] as usize) < g.num_nodes());
+            }
+        }
+    }
+
+    #[test]
+    fn weights_are_continuous_across_cell_faces_and_breakpoints() {
+        // GIMP is C¹: both the weight and its gradient are continuous, also across the
+        // breakpoints x_i ± l_p and x_i ± (h ∓ l_p) of the piecewise formula.
+        for half in [0.025, 0.05, 0.0125] {
+            for face in [0.3, 0.4, 0.6] {
+                for offset in [0.0, half, -half, 0.1 - half, half - 0.1] {
+                    let x0 = face + offset;
+                    for dir in 0..2 {
+                        let mut lo = [0.437, 0.562];
+                        let mut hi = lo;
+                        lo[dir] = x0 - 1e-9;
+                        hi[dir] = x0 + 1e-9;
+                        let (dw, dg) = stencil_difference(&ugimp(lo, [half; 2], false), &ugimp(hi, [half; 2], false));
+                        assert!(dw < 1e-7, "weight jump {dw} at {x0} dir {dir}");
+                        assert!(dg < 1e-5, "gradient jump {dg} at {x0} dir {dir}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn tends_to_linear_as_the_half_width_vanishes() {
+        let g = grid();
+        let mut lin = Stencil::default();
+        for a in 0..23 {
+            for b in 0..19 {
+                let x = [0.1234 + 0.031 * a as f64, 0.1567 + 0.037 * b as f64];
+                let p = single_particle(x, [1e-6 * g.cell_size; 2]);
+                let mut st = Stencil::default();
+                UGimp::stencil(&g, &p, 0, false, &mut st);
+                Linear::stencil(&g, &p, 0, false, &mut lin);
+                let (dw, dg) = stencil_difference(&st, &lin);
+                assert!(dw < 1e-10 && dg < 1e-8, "at {x:?}: Δw = {dw}, Δ∇ = {dg}");
+            }
+        }
+    }
+
+    #[test]
+    fn one_d_weight_matches_the_piecewise_formula() {
+        let h = 0.1;
+        for l in [0.05, 0.025, 0.0125, 0.001] {
+            for k in 0..=400 {
+                let xi = -0.16 + 0.32 * k as f64 / 400.0 + 1e-7;
+                let (s, d) = gimp_weight(xi / h, l / h);
+                let (se, de) = piecewise(xi, l, h);
+                assert!((s - se).abs() < 1e-13, "S({xi}, {l}) = {s} vs {se}");
+                assert!((d / h - de).abs() < 1e-9 * (1.0 + de.abs()), "S'({xi}, {l}) = {} vs {de}", d / h);
+            }
+        }
+        // Hand values, h = 0.1, l = 0.025.
+        let s = |xi: f64| gimp_weight(xi / h, 0.25).0;
+        assert!((s(-0.09) - 0.1225).abs() < 1e-14); // (0.035)² / 0.01
+        assert!((s(-0.05) - 0.5).abs() < 1e-14); // 1 + ξ/h
+        assert!((s(0.0) - 0.875).abs() < 1e-14); // 1 − l/(2h)
+        assert!((s(0.01) - 0.855).abs() < 1e-14); // 1 − (1e-4 + 6.25e-4)/5e-3
+        assert!((s(0.11) - 0.0225).abs() < 1e-14); // (0.015)² / 0.01
+        assert_eq!(s(0.125), 0.0);
+        assert_eq!(s(-0.2), 0.0);
+    }
+
+    #[test]
+    fn two_d_stencil_is_the_tensor_product_by_hand() {
+        // Particle at (0.13, 0.27), l = 0.025: x-nodes 1, 2 (ξ = 0.03, −0.07);
+        // y-nodes 2, 3 (ξ = 0.07, −0.03). Node 0 in x: ξ = 0.13 ≥ h + l, zero.
+        let g = grid();
+        let st = ugimp([0.13, 0.27], [0.025; 2], false);
+        assert_eq!(st.len, 4);
+        let h = 0.1;
+        for (i, j) in [(1usize, 2usize), (2, 2), (1, 3), (2, 3)] {
+            let (sx, dx) = piecewise(0.13 - i as f64 * h, 0.025, h);
+            let (sy, dy) = piecewise(0.27 - j as f64 * h, 0.025, h);
+            let k = (0..st.len).find(|&k| st.node[k] as usize == g.node_index(i, j)).unwrap();
+            assert!((st.weight[k] - sx * sy).abs() < 1e-14);
+            assert!((st.gradient[k][0] - dx * sy).abs() < 1e-12);
+            assert!((st.gradient[k][1] - sx * dy).abs() < 1e-12);
+        }
+        // Node (1, 2): ξ = (0.03, 0.07) → S_x = 1 − 0.3 = 0.7, S_y = 1 − 0.7 = 0.3.
+        let k = (0..st.len).find(|&k| st.node[k] as usize == g.node_index(1, 2)).unwrap();
+        assert!((st.weight[k] - 0.21).abs() < 1e-14);
+    }
+
+    #[test]
+    fn stencil_equals_the_tensor_product_of_gimp_weight() {
+        // The cell-by-cell evaluation in `axis_weights` against the reference 1D weight, for
+        // half-widths up to one cell (the cpGIMP range) and positions all over a cell.
+        let g = grid();
+        let h = g.cell_size;
+        let mut st = Stencil::default();
+        for lam in [1e-9, 1e-3, 0.1, 0.25, 0.4999, 0.5, 0.5001, 0.75, 0.9, 1.0] {
+            for a in 0..=40 {
+                let x = [0.4 + h * a as f64 / 40.0, 0.6 - h * (a % 13) as f64 / 13.0];
+                gimp_stencil(&g, x, [lam * h, (1.0 - 0.5 * lam) * h], false, &mut st);
+                let l = g.local(x);
+                let mut expected = Stencil::default();
+                for j in 0..g.nodes[1] {
+                    for i in 0..g.nodes[0] {
+                        let (sx, dx) = gimp_weight(l[0] - i as f64, lam);
+                        let (sy, dy) = gimp_weight(l[1] - j as f64, 1.0 - 0.5 * lam);
+                        if sx * sy != 0.0 || dx * sy != 0.0 || sx * dy != 0.0 {
+                            expected.push(g.node_index(i, j), sx * sy, [dx * sy / h, sx * dy / h]);
+                        }
+                    }
+                }
+                let (dw, dg) = stencil_difference(&st, &expected);
+                // Where the domain straddles a node the derivative depends on how the node
+                // splits it, known to rounding of x only: relative 1e-16 / lam.
+                assert!(dw < 1e-14 && dg < 1e-11 + 1e-15 / lam, "lam = {lam}, x = {x:?}: Δw = {dw}, Δ∇ = {dg}");
+            }
+        }
+    }
+
+    #[test]
+    fn half_width_of_half_a_cell_touches_three_nodes_per_direction() {
+        let st = ugimp([0.13, 0.47], [0.05, 0.05], false);
+        assert_eq!(st.len, 9);
+        let st = ugimp([0.15, 0.45], [0.05, 0.05], false);
+        assert_eq!(st.len, 4); // domain = one cell exactly: the outer nodes get zero weight
     }
 }

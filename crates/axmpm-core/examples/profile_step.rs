@@ -1,0 +1,34 @@
+//! Runs a column-collapse-sized block for profiling: `cargo run --release --example profile_step -- linear 1`.
+use axmpm_core::config::*;
+use axmpm_core::Simulation;
+use std::collections::BTreeMap;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let shape: ShapeFunctionKind = serde_json::from_str(&format!("\"{}\"", args.get(1).map(|s| s.as_str()).unwrap_or("linear"))).unwrap();
+    let threads: usize = args.get(2).map(|s| s.parse().unwrap()).unwrap_or(1);
+    let steps: u64 = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(200);
+    let mut materials = BTreeMap::new();
+    materials.insert("m".to_string(), MaterialConfig {
+        model: "linear_elastic".into(), density: 1500.0, youngs_modulus: 1e6, poisson_ratio: 0.3,
+        friction_angle: None, dilation_angle: None, cohesion: None, tension_cutoff: None, extra: Default::default() });
+    let cfg = Config {
+        simulation: SimulationConfig { formulation: FormulationKind::Axisymmetric, shape_function: shape, end_time: 1.0,
+            output_interval: 0.1, gravity: [0.0, -9.81], gravity_ramp_time: 0.0, time_step: 0.0, cfl: 0.4,
+            update_scheme: UpdateScheme::Musl, flip_fraction: 0.99, damping: 0.0, extra: Default::default() },
+        grid: GridConfig { origin: [0.0, 0.0], extent: [0.4, 0.3], cell_size: 0.001 },
+        materials,
+        bodies: vec![BodyConfig { name: None, material: "m".into(), shape: "rectangle".into(), min: [0.0, 0.0],
+            max: [0.1, 0.2], particles_per_cell: 2, velocity: [0.0, 0.0], initial_stress: InitialStress::Zero, k0: None }],
+        boundaries: BoundariesConfig { left: BoundaryCondition::ROLLER, right: BoundaryCondition::FREE,
+            bottom: BoundaryCondition::friction(0.5), top: BoundaryCondition::FREE },
+        walls: vec![], extra: Default::default() };
+    let mut sim = Simulation::new(cfg, threads).unwrap();
+    sim.advance(1e9, 10).unwrap();
+    let t = std::time::Instant::now();
+    sim.advance(1e9, steps).unwrap();
+    let el = t.elapsed().as_secs_f64();
+    println!("{:?} threads={} N={} {:.2} M particle-steps/s", shape, threads, sim.particles().len(),
+        steps as f64 * sim.particles().len() as f64 / el / 1e6);
+    println!("{:?}", sim.timings());
+}
