@@ -155,7 +155,7 @@ impl Simulation {
             flip_fraction: s.flip_fraction,
             damping: s.damping,
             scheme: s.update_scheme,
-            mass_threshold: 1e-9 * mean_mass,
+            mass_threshold: 1e-12 * mean_mass,
         };
         let constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         let mut state = State {

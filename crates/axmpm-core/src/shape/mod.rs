@@ -122,8 +122,8 @@ pub fn hat(xi: f64) -> (f64, f64) {
 #[inline(always)]
 pub fn bilinear_nodes(grid: &GridGeometry, x: [f64; 2], mut visit: impl FnMut(usize, f64, [f64; 2])) {
     let l = grid.local(x);
-    let ci = l[0].floor();
-    let cj = l[1].floor();
+    let ci = fast_floor(l[0]);
+    let cj = fast_floor(l[1]);
     let fx = l[0] - ci;
     let fy = l[1] - cj;
     let ih = grid.inverse_cell_size;
