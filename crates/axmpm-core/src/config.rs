@@ -264,6 +264,7 @@ impl Config {
         if !(0.0..1.0).contains(&s.damping) {
             return Err(format!("simulation.damping must be in [0, 1) (got {})", s.damping));
         }
+        let tol = 1e-6 * g.cell_size;
         for (i, b) in self.bodies.iter().enumerate() {
             if !self.materials.contains_key(&b.material) {
                 return Err(format!("bodies[{i}].material: no material named '{}'", b.material));
@@ -272,7 +273,7 @@ impl Config {
                 return Err(format!("bodies[{i}].particles_per_cell must be 1..8 (got {})", b.particles_per_cell));
             }
             for d in 0..2 {
-                if !(b.min[d] < b.max[d]) || b.min[d] < g.origin[d] - 1e-9 || b.max[d] > g.origin[d] + g.extent[d] + 1e-9 {
+                if !(b.min[d] < b.max[d]) || b.min[d] < g.origin[d] - tol || b.max[d] > g.origin[d] + g.extent[d] + tol {
                     return Err(format!("bodies[{i}]: rectangle {:?}..{:?} must lie inside the grid", b.min, b.max));
                 }
             }

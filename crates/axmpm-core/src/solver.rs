@@ -51,11 +51,6 @@ impl Lane {
         }
     }
 
-    #[inline(always)]
-    fn touches(&self, node: usize) -> bool {
-        node >= self.touched.0 && node <= self.touched.1
-    }
-
     /// Zeroes the buffers where the previous scatter wrote.
     fn clear(&mut self) {
         let (lo, hi) = self.touched;
@@ -164,25 +159,28 @@ impl State {
     }
 }
 
+/// Particles per lane: lanes are equal contiguous chunks (the last may be shorter or empty).
+#[inline(always)]
+fn lane_length(n: usize) -> usize {
+    n.div_ceil(LANES).max(1)
+}
+
 /// Particle index range of lane `k`.
 #[inline(always)]
 fn lane_range(k: usize, n: usize) -> std::ops::Range<usize> {
-    (k * n / LANES)..((k + 1) * n / LANES)
+    let len = lane_length(n);
+    (k * len).min(n)..((k + 1) * len).min(n)
 }
 
 /// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
 /// any (the state is then left as computed, for inspection).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
     let t0 = std::time::Instant::now();
-    particle_to_grid::<F, S>(state, gravity, true);
+    particle_to_grid::<F, S>(state, gravity);
     let t1 = std::time::Instant::now();
     update_grid(state, dt);
     let t2 = std::time::Instant::now();
     grid_to_particle::<F, S>(state, dt);
-    if state.parameters.scheme == UpdateScheme::Musl {
-        particle_to_grid::<F, S>(state, gravity, false);
-        remap_velocity(state);
-    }
     let t3 = std::time::Instant::now();
     let result = update_particles::<F, S>(state, dt);
     let t4 = std::time::Instant::now();
@@ -195,9 +193,9 @@ pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravit
     result
 }
 
-/// Scatters mass and momentum (and, when `with_force`, internal and gravity forces) to the
-/// nodes, lane by lane, then sums the lanes in a fixed order.
-fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], with_force: bool) {
+/// Scatters mass, momentum, internal and gravity forces to the nodes, lane by lane, then sums
+/// the lanes in a fixed order.
+fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2]) {
     let particles = &state.particles;
     let grid = &state.grid;
     let n = particles.len();
@@ -218,7 +216,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 lane.momentum[node][0] += w * m * v[0];
                 lane.momentum[node][1] += w * m * v[1];
             }
-            if with_force {
+            {
                 let vol = particles.volume[p];
                 let s = particles.stress[p];
                 let hoop = F::hoop_factor(particles.position[p]);
@@ -234,8 +232,12 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
         }
         lane.touched = (lo, hi);
     });
-    let lanes = &state.lanes;
-    let fields = &mut state.fields;
+    sum_lanes(&state.lanes, &mut state.fields, true);
+}
+
+/// Sums the lanes node by node in lane order into the grid fields: momentum always, mass and
+/// force when `all` (the MUSL re-map only scatters momentum).
+fn sum_lanes(lanes: &[Lane], fields: &mut GridFields, all: bool) {
     const CHUNK: usize = 4096;
     fields
         .mass
@@ -244,24 +246,33 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
         .zip(fields.force.par_chunks_mut(CHUNK))
         .enumerate()
         .for_each(|(c, ((mass, momentum), force))| {
+            // Start from zero and add each lane's touched part of this chunk, in lane order:
+            // every node is summed as 0 + lane0 + lane1 + ..., independent of the threads.
             let start = c * CHUNK;
-            for i in 0..mass.len() {
-                let node = start + i;
-                let (mut m, mut p0, mut p1) = (0.0, 0.0, 0.0);
-                for lane in lanes.iter().filter(|l| l.touches(node)) {
-                    m += lane.mass[node];
-                    p0 += lane.momentum[node][0];
-                    p1 += lane.momentum[node][1];
+            let end = start + mass.len();
+            momentum.fill([0.0; 2]);
+            if all {
+                mass.fill(0.0);
+                force.fill([0.0; 2]);
+            }
+            for lane in lanes {
+                let lo = lane.touched.0.max(start);
+                let hi = (lane.touched.1 + 1).min(end);
+                if lo >= hi {
+                    continue;
                 }
-                mass[i] = m;
-                momentum[i] = [p0, p1];
-                if with_force {
-                    let (mut f0, mut f1) = (0.0, 0.0);
-                    for lane in lanes.iter().filter(|l| l.touches(node)) {
-                        f0 += lane.force[node][0];
-                        f1 += lane.force[node][1];
+                for node in lo..hi {
+                    let i = node - start;
+                    momentum[i][0] += lane.momentum[node][0];
+                    momentum[i][1] += lane.momentum[node][1];
+                }
+                if all {
+                    for node in lo..hi {
+                        let i = node - start;
+                        mass[i] += lane.mass[node];
+                        force[i][0] += lane.force[node][0];
+                        force[i][1] += lane.force[node][1];
                     }
-                    force[i] = [f0, f1];
                 }
             }
         });
@@ -310,42 +321,70 @@ fn sign(x: f64) -> f64 {
     }
 }
 
-/// New particle velocities (PIC/FLIP blend) and position increments.
+/// New particle velocities (PIC/FLIP blend) and position increments; with MUSL the new
+/// momentum is scattered back to the grid in the same pass (same stencil, same lanes).
 fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) {
     let particles = &state.particles;
     let grid = &state.grid;
     let fields = &state.fields;
     let flip = state.parameters.flip_fraction;
-    let axisymmetric = F::AXISYMMETRIC;
+    let musl = state.parameters.scheme == UpdateScheme::Musl;
+    let len = lane_length(particles.len());
     state
         .scratch
         .velocity
-        .par_iter_mut()
-        .zip(state.scratch.displacement.par_iter_mut())
+        .par_chunks_mut(len)
+        .zip(state.scratch.displacement.par_chunks_mut(len))
+        .zip(state.lanes.par_iter_mut())
         .enumerate()
-        .with_min_len(256)
-        .for_each_init(Stencil::default, |st, (p, (v_out, dx))| {
-            S::stencil(grid, particles, p, axisymmetric, st);
-            let mut v_grid = [0.0; 2];
-            let mut dv = [0.0; 2];
-            for e in 0..st.len {
-                let node = st.node[e] as usize;
-                let w = st.weight[e];
-                let vn = fields.velocity_new[node];
-                let vo = fields.velocity[node];
-                v_grid[0] += w * vn[0];
-                v_grid[1] += w * vn[1];
-                dv[0] += w * (vn[0] - vo[0]);
-                dv[1] += w * (vn[1] - vo[1]);
+        .for_each(|(k, ((velocity_out, displacement_out), lane))| {
+            if musl {
+                lane.clear();
             }
-            let v = particles.velocity[p];
-            *v_out = [
-                flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
-                flip * (v[1] + dv[1]) + (1.0 - flip) * v_grid[1],
-            ];
-            *dx = [dt * v_grid[0], dt * v_grid[1]];
+            let (mut lo, mut hi) = (usize::MAX, 0usize);
+            let mut st = Stencil::default();
+            for (i, (v_out, dx)) in velocity_out.iter_mut().zip(displacement_out.iter_mut()).enumerate() {
+                let p = k * len + i;
+                S::stencil(grid, particles, p, F::AXISYMMETRIC, &mut st);
+                let mut v_grid = [0.0; 2];
+                let mut dv = [0.0; 2];
+                for e in 0..st.len {
+                    let node = st.node[e] as usize;
+                    let w = st.weight[e];
+                    let vn = fields.velocity_new[node];
+                    let vo = fields.velocity[node];
+                    v_grid[0] += w * vn[0];
+                    v_grid[1] += w * vn[1];
+                    dv[0] += w * (vn[0] - vo[0]);
+                    dv[1] += w * (vn[1] - vo[1]);
+                }
+                let v = particles.velocity[p];
+                *v_out = [
+                    flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
+                    flip * (v[1] + dv[1]) + (1.0 - flip) * v_grid[1],
+                ];
+                *dx = [dt * v_grid[0], dt * v_grid[1]];
+                if musl {
+                    let m = particles.mass[p];
+                    for e in 0..st.len {
+                        let node = st.node[e] as usize;
+                        lo = lo.min(node);
+                        hi = hi.max(node);
+                        let wm = st.weight[e] * m;
+                        lane.momentum[node][0] += wm * v_out[0];
+                        lane.momentum[node][1] += wm * v_out[1];
+                    }
+                }
+            }
+            if musl {
+                lane.touched = (lo, hi);
+            }
         });
     std::mem::swap(&mut state.particles.velocity, &mut state.scratch.velocity);
+    if musl {
+        sum_lanes(&state.lanes, &mut state.fields, false);
+        remap_velocity(state);
+    }
 }
 
 /// MUSL: nodal velocities from the re-mapped momentum, constrained; stored in `fields.velocity`.

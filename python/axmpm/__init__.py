@@ -1,0 +1,21 @@
+"""axmpm: material point method for large-deformation geomechanics (plane strain and
+axisymmetric). Rust engine (``axmpm._core``), Python front end (this package)."""
+
+from .errors import RunError, ScenarioError
+from .scenario import Scenario, apply_overrides
+
+__all__ = ["Scenario", "ScenarioError", "RunError", "apply_overrides", "run", "load_run"]
+__version__ = "0.1.0"
+
+
+def __getattr__(name: str):
+    # Lazy: importing axmpm must not need the compiled engine or matplotlib.
+    if name == "run":
+        from .runner import run
+
+        return run
+    if name == "load_run":
+        from .output import load_run
+
+        return load_run
+    raise AttributeError(f"module 'axmpm' has no attribute {name!r}")

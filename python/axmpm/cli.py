@@ -1,0 +1,139 @@
+"""The ``axmpm`` command.
+
+Exit codes: 0 success; 2 bad input (scenario, overrides, output folder), one
+``error: dotted.key: message`` line per problem on stderr and no traceback; 3 the
+simulation failed (the engine's reason is printed and recorded in summary.json);
+130 interrupted (Ctrl-C).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from .errors import RunError, ScenarioError
+
+EXIT_OK = 0
+EXIT_INPUT = 2
+EXIT_FAILED = 3
+EXIT_INTERRUPTED = 130
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="axmpm",
+        description="Material point method for large-deformation geomechanics "
+        "(plane strain and axisymmetric).",
+    )
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    set_help = "override a scenario value, e.g. --set materials.sand.density=1600 (repeatable)"
+
+    p = sub.add_parser("run", help="run a scenario and write its output folder")
+    p.add_argument("scenario", type=Path, help="scenario TOML file")
+    p.add_argument("--out", type=Path, required=True, help="output folder")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help=set_help)
+    p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
+    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="show a progress bar (default: when stderr is a terminal)")
+
+    p = sub.add_parser("check", help="validate a scenario and report every error")
+    p.add_argument("scenario", type=Path, help="scenario TOML file")
+    p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help=set_help)
+    p.add_argument("--print", dest="print_resolved", action="store_true",
+                   help="print the resolved scenario (every default filled in)")
+
+    sub.add_parser("schema", help="print the JSON Schema of scenario files")
+
+    p = sub.add_parser("demo", help="1D column vs its exact solution (axisymmetric, linear MPM)")
+    p.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder (default runs/demo)")
+    p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
+    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
+    return parser
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from .scenario import Scenario
+
+    scenario = Scenario.from_toml(args.scenario, args.overrides)
+    if args.print_resolved:
+        print(scenario.to_toml(), end="")
+    else:
+        sim = scenario.simulation
+        nx, ny = scenario.grid.cells()
+        print(f"ok: {args.scenario} is valid: {sim.formulation}, {sim.shape_function}, "
+              f"{scenario.particle_count()} particles, grid {nx} x {ny} cells, end_time {sim.end_time:g} s")
+    return EXIT_OK
+
+
+def _report_run(summary: dict, out: Path) -> int:
+    status = summary["status"]
+    print(f"{status}: {summary['steps']} steps to t = {summary['end_time']:.6g} s, "
+          f"{summary['particles']} particles, {summary['wall_seconds']:.2f} s wall, "
+          f"{summary['particle_steps_per_second']:.3g} particle-steps/s; output in {out}")
+    if status == "failed":
+        print(f"error: simulation failed: {summary['message']}", file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_OK
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .runner import run
+    from .scenario import Scenario
+
+    scenario = Scenario.from_toml(args.scenario, args.overrides)
+    summary = run(scenario, args.out, threads=args.threads, overwrite=args.overwrite, progress=args.progress)
+    return _report_run(summary, args.out)
+
+
+def _cmd_schema(args: argparse.Namespace) -> int:
+    from .scenario import schema_json
+
+    print(schema_json())
+    return EXIT_OK
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from .demo import run_demo
+
+    print("1D column under self-weight, compression, rho0 g H / E = 0.01, axisymmetric, linear MPM")
+    result = run_demo(args.out, overwrite=args.overwrite, threads=args.threads, progress=args.progress)
+    code = _report_run(result.summary, result.out)
+    if result.errors is not None:
+        e = result.errors
+        print(f"vertical stress error vs exact: relative L2 {100 * e.stress_l2:.3f} %, "
+              f"max {100 * e.stress_max:.3f} % of the base stress")
+        print(f"vertical displacement error vs exact: relative L2 {100 * e.displacement_l2:.3f} %")
+    return code
+
+
+COMMANDS = {"run": _cmd_run, "check": _cmd_check, "schema": _cmd_schema, "demo": _cmd_demo}
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    try:
+        return COMMANDS[args.command](args)
+    except ScenarioError as exc:
+        print(exc.render(), file=sys.stderr)
+        return EXIT_INPUT
+    except RunError as exc:
+        print(exc.render(), file=sys.stderr)
+        return EXIT_INPUT
+    except FileNotFoundError as exc:
+        print(f"error: file not found: {exc.filename or exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except OSError as exc:  # e.g. an output folder we may not write to
+        where = f": {exc.filename}" if exc.filename else ""
+        print(f"error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,300 @@
+"""Run folders: what a run writes and how it is read back.
+
+Layout of a run folder::
+
+    scenario.toml            resolved scenario (every default filled in)
+    summary.json             status, steps, timings, energies (written at start, updated at end)
+    history.csv              one row per output time: time, steps, dt, energies
+    particles.pvd            ParaView collection of the frames with their times
+    frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
+    frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these
+
+Every file is written under a temporary name and moved into place with ``os.replace``, so
+a reader never sees a half-written file.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .scenario import Scenario
+
+__all__ = [
+    "FrameData",
+    "Frame",
+    "Run",
+    "load_run",
+    "is_run_folder",
+    "stress_names",
+    "write_frame",
+    "write_pvd",
+    "write_json",
+    "HistoryWriter",
+    "SUMMARY",
+    "PROGRAM",
+]
+
+PROGRAM = "axmpm"
+SUMMARY = "summary.json"
+SCENARIO = "scenario.toml"
+HISTORY = "history.csv"
+PVD = "particles.pvd"
+FRAMES = "frames"
+
+
+def stress_names(formulation: str) -> list[str]:
+    """Names of the four stress components, in the engine's order.
+
+    [in-plane normal 1, in-plane normal 2 (vertical), out-of-plane/hoop, in-plane shear].
+    """
+    if formulation == "axisymmetric":
+        return ["stress_rr", "stress_zz", "stress_tt", "stress_rz"]
+    return ["stress_xx", "stress_yy", "stress_zz", "stress_xy"]
+
+
+F_NAMES = ["F11", "F12", "F21", "F22", "F33"]
+
+
+@dataclass
+class FrameData:
+    """One snapshot of all particles (SI units, tension positive)."""
+
+    time: float
+    steps: int
+    x: NDArray[np.float64]  # (N, 2) current position
+    v: NDArray[np.float64]  # (N, 2) velocity
+    stress: NDArray[np.float64]  # (N, 4) see stress_names()
+    X0: NDArray[np.float64]  # (N, 2) initial position
+    volume: NDArray[np.float64]  # (N,) per metre (plane strain) or per radian (axisymmetric)
+    volume0: NDArray[np.float64]  # (N,)
+    mass: NDArray[np.float64]  # (N,)
+    material_id: NDArray[np.int32]  # (N,) index into sorted material names
+    F: NDArray[np.float64]  # (N, 5) [F11, F12, F21, F22, F33]
+    state: NDArray[np.float64]  # (N, S)
+    state_names: list[str] = field(default_factory=list)
+
+    @property
+    def displacement(self) -> NDArray[np.float64]:
+        return self.x - self.X0
+
+    @classmethod
+    def from_simulation(cls, sim: Any) -> "FrameData":
+        """Copy the particle state out of an ``axmpm._core.Simulation``."""
+        state_names = list(sim.state_names())
+        state = np.asarray(sim.state(), dtype=float)
+        if state.ndim != 2:
+            state = state.reshape(int(sim.num_particles), len(state_names))
+        return cls(
+            time=float(sim.time),
+            steps=int(sim.steps),
+            x=np.asarray(sim.positions(), dtype=float),
+            v=np.asarray(sim.velocities(), dtype=float),
+            stress=np.asarray(sim.stresses(), dtype=float),
+            X0=np.asarray(sim.initial_positions(), dtype=float),
+            volume=np.asarray(sim.volumes(), dtype=float),
+            volume0=np.asarray(sim.initial_volumes(), dtype=float),
+            mass=np.asarray(sim.masses(), dtype=float),
+            material_id=np.asarray(sim.material_ids(), dtype=np.int32),
+            F=np.asarray(sim.deformation_gradients(), dtype=float),
+            state=state,
+            state_names=state_names,
+        )
+
+
+_ARRAYS = ("x", "v", "stress", "X0", "volume", "volume0", "mass", "material_id", "F", "state")
+
+
+def frame_stem(index: int) -> str:
+    return f"frame_{index:06d}"
+
+
+def _tmp(path: Path) -> Path:
+    return path.with_name(f".{path.name}.tmp{os.getpid()}")
+
+
+def write_json(path: Path, data: dict[str, Any]) -> None:
+    """Write JSON atomically."""
+    tmp = _tmp(path)
+    tmp.write_text(json.dumps(data, indent=2) + "\n")
+    os.replace(tmp, path)
+
+
+def write_text(path: Path, text: str) -> None:
+    """Write text atomically."""
+    tmp = _tmp(path)
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -> Path:
+    """Write ``frames/frame_NNNNNN.npz`` and ``.vtu`` atomically; return the .vtu path."""
+    from pyevtk.hl import pointsToVTK
+
+    frames = run_dir / FRAMES
+    frames.mkdir(exist_ok=True)
+    stem = frame_stem(index)
+
+    npz = frames / f"{stem}.npz"
+    tmp_npz = frames / f".{stem}.tmp{os.getpid()}.npz"
+    arrays = {name: getattr(frame, name) for name in _ARRAYS}
+    np.savez(
+        tmp_npz,
+        time=np.float64(frame.time),
+        steps=np.int64(frame.steps),
+        state_names=np.array(frame.state_names, dtype=str),
+        formulation=np.array(formulation),
+        **arrays,
+    )
+    os.replace(tmp_npz, npz)
+
+    n = frame.x.shape[0]
+    zeros = np.zeros(n)
+
+    def vec(a: NDArray[np.float64]) -> tuple[NDArray[np.float64], ...]:
+        return (np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(a[:, 1]), zeros)
+
+    data: dict[str, Any] = {
+        "velocity": vec(frame.v),
+        "displacement": vec(frame.displacement),
+        "initial_position": vec(frame.X0),
+    }
+    for j, name in enumerate(stress_names(formulation)):
+        data[name] = np.ascontiguousarray(frame.stress[:, j])
+    data["volume"] = np.ascontiguousarray(frame.volume)
+    data["mass"] = np.ascontiguousarray(frame.mass)
+    data["material_id"] = np.ascontiguousarray(frame.material_id, dtype=np.int32)
+    for j, name in enumerate(F_NAMES):
+        data[name] = np.ascontiguousarray(frame.F[:, j])
+    for j, name in enumerate(frame.state_names):
+        data[f"state_{name}"] = np.ascontiguousarray(frame.state[:, j])
+
+    tmp_stem = frames / f".{stem}.tmp{os.getpid()}"
+    pointsToVTK(
+        str(tmp_stem),
+        np.ascontiguousarray(frame.x[:, 0]),
+        np.ascontiguousarray(frame.x[:, 1]),
+        zeros,
+        data=data,  # no fieldData: the time is in particles.pvd, and meshio rejects FieldData
+    )
+    vtu = frames / f"{stem}.vtu"
+    os.replace(f"{tmp_stem}.vtu", vtu)
+    return vtu
+
+
+def write_pvd(run_dir: Path, entries: Sequence[tuple[float, Path]]) -> None:
+    """(Re)write ``particles.pvd`` listing ``(time, vtu path)`` entries, atomically."""
+    from pyevtk.vtk import VtkGroup
+
+    tmp_stem = run_dir / f".particles.tmp{os.getpid()}"
+    group = VtkGroup(str(tmp_stem))
+    for time, vtu in entries:
+        group.addFile(filepath=str(vtu), sim_time=repr(float(time)))
+    group.save()
+    os.replace(f"{tmp_stem}.pvd", run_dir / PVD)
+
+
+class HistoryWriter:
+    """Appends rows to ``history.csv``; the columns are fixed by the first row."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.columns: list[str] | None = None
+
+    def append(self, row: dict[str, float]) -> None:
+        if self.columns is None:
+            self.columns = list(row)
+            with open(self.path, "w", newline="") as fh:
+                csv.writer(fh).writerow(self.columns)
+        with open(self.path, "a", newline="") as fh:
+            csv.writer(fh).writerow([repr(float(row.get(c, float("nan")))) for c in self.columns])
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def is_run_folder(path: Path) -> bool:
+    """True when ``path`` holds a ``summary.json`` written by axmpm."""
+    try:
+        data = json.loads((Path(path) / SUMMARY).read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(data, dict) and data.get("program") == PROGRAM
+
+
+class Frame:
+    """A frame of a run on disk; arrays are read from its .npz on first access."""
+
+    def __init__(self, path: Path):
+        self.path = Path(path)
+
+    @cached_property
+    def _data(self) -> FrameData:
+        with np.load(self.path) as z:
+            return FrameData(
+                time=float(z["time"]),
+                steps=int(z["steps"]),
+                state_names=[str(s) for s in z["state_names"]],
+                **{name: z[name] for name in _ARRAYS},
+            )
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_") or name == "path":
+            raise AttributeError(name)
+        return getattr(self._data, name)
+
+    def __repr__(self) -> str:
+        return f"Frame({self.path.name})"
+
+
+class Run:
+    """A run folder read back: ``frames``, ``summary``, ``scenario``, ``history``."""
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        if not (self.path / SUMMARY).exists():
+            raise FileNotFoundError(f"{self.path} is not an axmpm run folder (no {SUMMARY})")
+        self.summary: dict[str, Any] = json.loads((self.path / SUMMARY).read_text())
+        self.frames: list[Frame] = [Frame(p) for p in sorted((self.path / FRAMES).glob("frame_*.npz"))]
+
+    @cached_property
+    def scenario(self) -> Scenario:
+        return Scenario.from_toml(self.path / SCENARIO)
+
+    @cached_property
+    def history(self) -> dict[str, NDArray[np.float64]]:
+        path = self.path / HISTORY
+        if not path.exists():
+            return {}
+        with open(path, newline="") as fh:
+            rows = list(csv.reader(fh))
+        if not rows:
+            return {}
+        header, body = rows[0], rows[1:]
+        values = np.array([[float(v) for v in r] for r in body], dtype=float).reshape(len(body), len(header))
+        return {name: values[:, j] for j, name in enumerate(header)}
+
+    @property
+    def times(self) -> NDArray[np.float64]:
+        return np.array([f.time for f in self.frames])
+
+    @property
+    def last(self) -> Frame:
+        return self.frames[-1]
+
+    def __repr__(self) -> str:
+        return f"Run({str(self.path)!r}, status={self.summary.get('status')!r}, frames={len(self.frames)})"
+
+
+def load_run(path: str | Path) -> Run:
+    """Read a run folder written by :func:`axmpm.run`."""
+    return Run(path)

@@ -1,0 +1,209 @@
+"""The ``axmpm`` command: exit codes, messages without tracebacks, a real end-to-end run."""
+
+from __future__ import annotations
+
+import csv
+import json
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from conftest import EXAMPLES, TINY_TOML, run_cli
+
+
+def assert_input_error(result: subprocess.CompletedProcess[str], *keys: str) -> None:
+    assert result.returncode == 2, result.stderr
+    assert "Traceback" not in result.stderr
+    for key in keys:
+        assert f"error: {key}: " in result.stderr, result.stderr
+
+
+# --------------------------------------------------------------------------- check / schema
+
+
+def test_check_valid(tiny_toml: Path) -> None:
+    result = run_cli("check", tiny_toml)
+    assert result.returncode == 0, result.stderr
+    assert "valid" in result.stdout and "200 particles" in result.stdout
+
+
+def test_check_reports_all_errors(tiny_toml: Path) -> None:
+    result = run_cli("check", tiny_toml, "--set", "materials.soil.poisson_ratio=0.7",
+                     "--set", "simulation.cfl=0", "--set", "simulation.shape_functon=linear")
+    assert_input_error(result, "materials.soil.poisson_ratio", "simulation.cfl", "simulation.shape_functon")
+    assert "error: materials.soil.poisson_ratio: must be >= 0 and < 0.5 (got 0.7)" in result.stderr
+    assert "did you mean 'shape_function'" in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 3
+
+
+def test_check_cross_errors(tiny_toml: Path) -> None:
+    result = run_cli("check", tiny_toml, "--set", "bodies.0.material=sand",
+                     "--set", "simulation.formulation=axisymmetric", "--set", "boundaries.left=fixed")
+    assert_input_error(result, "bodies.0.material", "boundaries.left")
+    assert "always a roller" in result.stderr
+
+
+def test_check_prints_resolved(tiny_toml: Path) -> None:
+    result = run_cli("check", tiny_toml, "--print", "--set", "simulation.damping=0.2")
+    assert result.returncode == 0
+    assert "damping = 0.2" in result.stdout and "flip_fraction = 0.99" in result.stdout
+
+
+def test_check_missing_file(tmp_path: Path) -> None:
+    result = run_cli("check", tmp_path / "absent.toml")
+    assert_input_error(result)
+    assert "not found" in result.stderr
+
+
+def test_check_toml_syntax_error(tmp_path: Path) -> None:
+    path = tmp_path / "broken.toml"
+    path.write_text(TINY_TOML.replace("end_time = 0.1", "end_time = 0.1 s"))
+    result = run_cli("check", path)
+    assert_input_error(result)
+    assert "line 4" in result.stderr  # end_time is on line 4
+
+
+def test_check_bad_override_syntax(tiny_toml: Path) -> None:
+    result = run_cli("check", tiny_toml, "--set", "bodies.3.min=[0,0]")
+    assert_input_error(result, "bodies.3.min")
+
+
+@pytest.mark.parametrize("path", sorted(EXAMPLES.glob("*.toml")), ids=lambda p: p.name)
+def test_check_examples(path: Path) -> None:
+    assert run_cli("check", path).returncode == 0
+
+
+def test_schema_is_json() -> None:
+    result = run_cli("schema")
+    assert result.returncode == 0
+    schema = json.loads(result.stdout)
+    assert "simulation" in schema["properties"]
+
+
+def test_run_rejects_invalid_scenario(tiny_toml: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    result = run_cli("run", tiny_toml, "--out", out, "--set", "grid.cell_size=-1")
+    assert_input_error(result, "grid.cell_size")
+    assert not out.exists()
+
+
+# --------------------------------------------------------------------------- runs
+
+
+def test_run_end_to_end(tiny_toml: Path, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    started = time.perf_counter()
+    result = run_cli("run", tiny_toml, "--out", out, "--threads", "2")
+    assert result.returncode == 0, result.stderr
+    assert time.perf_counter() - started < 20
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "completed"
+    assert summary["particles"] == 200 and summary["steps"] > 0
+    assert summary["end_time"] == pytest.approx(0.1, rel=1e-12)
+    assert summary["particle_steps_per_second"] > 0
+    assert summary["formulation"] == "plane_strain" and summary["shape_function"] == "linear"
+    assert {"kinetic_energy", "gravity_work"} <= set(summary["energies"])
+    # frames at 0, 0.025, 0.05, 0.075, 0.1
+    assert len(list((out / "frames").glob("frame_*.vtu"))) == 5
+    assert len(list((out / "frames").glob("frame_*.npz"))) == 5
+    pvd = (out / "particles.pvd").read_text()
+    assert pvd.count("<DataSet") == 5 and 'file="frames/frame_000004.vtu"' in pvd
+    with open(out / "history.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [float(r["time"]) for r in rows] == pytest.approx([0, 0.025, 0.05, 0.075, 0.1])
+    assert {"time", "steps", "dt", "kinetic_energy", "gravity_work"} <= set(rows[0])
+    assert float(rows[-1]["gravity_work"]) > 0  # the block settled downwards
+    # the resolved scenario is written and valid
+    assert "flip_fraction = 0.99" in (out / "scenario.toml").read_text()
+    assert run_cli("check", out / "scenario.toml").returncode == 0
+    # no temporary files left behind
+    assert not [p for p in out.rglob("*") if ".tmp" in p.name]
+
+
+def test_run_replaces_a_previous_run(tiny_toml: Path, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    assert run_cli("run", tiny_toml, "--out", out).returncode == 0
+    result = run_cli("run", tiny_toml, "--out", out, "--set", "simulation.end_time=0.05")
+    assert result.returncode == 0, result.stderr
+    assert len(list((out / "frames").glob("*.vtu"))) == 3  # old frames are gone
+
+
+def test_run_refuses_a_non_empty_folder(tiny_toml: Path, tmp_path: Path) -> None:
+    out = tmp_path / "thesis"
+    out.mkdir()
+    (out / "chapter1.tex").write_text("precious")
+    (out / "figures").mkdir()
+    (out / "figures" / "a.png").write_bytes(b"\x89PNG")
+    before = sorted((p.relative_to(out), p.stat().st_mtime_ns) for p in out.rglob("*"))
+    result = run_cli("run", tiny_toml, "--out", out)
+    assert_input_error(result)
+    assert "--overwrite" in result.stderr
+    after = sorted((p.relative_to(out), p.stat().st_mtime_ns) for p in out.rglob("*"))
+    assert after == before
+    assert (out / "chapter1.tex").read_text() == "precious"
+
+
+def test_run_overwrite_clears_the_folder(tiny_toml: Path, tmp_path: Path) -> None:
+    out = tmp_path / "scratch"
+    out.mkdir()
+    (out / "junk.txt").write_text("x")
+    result = run_cli("run", tiny_toml, "--out", out, "--overwrite")
+    assert result.returncode == 0, result.stderr
+    assert not (out / "junk.txt").exists()
+    assert json.loads((out / "summary.json").read_text())["status"] == "completed"
+
+
+def test_run_failure_exit_3(tiny_toml: Path, tmp_path: Path) -> None:
+    # A time step 30x the stable one makes the state invalid within a few steps.
+    out = tmp_path / "boom"
+    result = run_cli("run", tiny_toml, "--out", out, "--set", "simulation.time_step=0.01")
+    assert result.returncode == 3, result.stdout + result.stderr
+    assert "Traceback" not in result.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "failed" and summary["message"]
+    assert summary["message"] in result.stderr
+    assert (out / "frames" / "frame_000000.vtu").exists()  # frames already written are kept
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="POSIX signals")
+def test_run_interrupt_exit_130(tiny_toml: Path, tmp_path: Path) -> None:
+    out = tmp_path / "long"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "axmpm.cli", "run", str(tiny_toml), "--out", str(out),
+         "--set", "simulation.end_time=1000", "--set", "simulation.output_interval=100"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        # a shell running us in the background may ignore SIGINT; give the child the default
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        summary_path = out / "summary.json"
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:  # wait until the run is stepping
+            if summary_path.exists() and (out / "frames" / "frame_000000.npz").exists():
+                break
+            time.sleep(0.05)
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGINT)
+        _, stderr = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 130, stderr
+    assert "Traceback" not in stderr
+    summary = json.loads(summary_path.read_text())
+    assert summary["status"] == "interrupted"
+    assert 0 < summary["steps"] and 0 < summary["end_time"] < 1000
+
+
+def test_demo(tmp_path: Path) -> None:
+    out = tmp_path / "demo"
+    result = run_cli("demo", "--out", out)
+    assert result.returncode == 0, result.stderr
+    assert "particle-steps/s" in result.stdout
+    assert "vertical stress error vs exact" in result.stdout
+    assert json.loads((out / "summary.json").read_text())["status"] == "completed"
