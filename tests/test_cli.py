@@ -207,3 +207,26 @@ def test_demo(tmp_path: Path) -> None:
     assert "particle-steps/s" in result.stdout
     assert "vertical stress error vs exact" in result.stdout
     assert json.loads((out / "summary.json").read_text())["status"] == "completed"
+
+
+def test_run_stops_once_at_rest(tmp_path):
+    """A block dropped onto a fixed base with strong damping comes to rest well before
+    end_time; with stop_at_rest the run ends there, status completed."""
+    import axmpm
+
+    scenario = {
+        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": 50.0,
+                       "output_interval": 0.25, "gravity": [0.0, -10.0], "damping": 0.5,
+                       "stop_at_rest": 1e-4, "stop_at_rest_after": 0.5},
+        "grid": {"extent": [0.4, 0.4], "cell_size": 0.05},
+        "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1e5,
+                            "poisson_ratio": 0.3}},
+        "bodies": [{"material": "m", "min": [0.1, 0.0], "max": [0.3, 0.2]}],
+        "boundaries": {"bottom": "fixed"},
+    }
+    summary = axmpm.run(scenario, tmp_path / "rest")
+    assert summary["status"] == "completed"
+    assert summary["stopped_at_rest"] is True
+    assert 0.5 <= summary["end_time"] < 50.0
+    e = summary["energies"]
+    assert e["kinetic_energy"] < 1e-4 * e["gravity_work"]

@@ -100,6 +100,16 @@ def _progress_bar(total: float, enabled: bool | None) -> Any:
     )
 
 
+def _at_rest(energies: dict[str, float], time: float, sim_cfg: Any) -> bool:
+    """The deposit is at rest: kinetic energy below ``stop_at_rest`` times the work gravity has
+    done (the potential energy released), from ``stop_at_rest_after`` on."""
+    ratio = sim_cfg.stop_at_rest
+    if ratio <= 0.0 or time < sim_cfg.stop_at_rest_after:
+        return False
+    released = energies.get("gravity_work", 0.0)
+    return released > 0.0 and energies.get("kinetic_energy", 0.0) < ratio * released
+
+
 def run(
     scenario: Scenario | str | Path | dict[str, Any],
     out: str | Path,
@@ -149,6 +159,7 @@ def run(
         "energies": {},
         "frames": 0,
         "message": "",
+        "stopped_at_rest": False,
     }
     write_json(out / SUMMARY, summary)
     write_text(out / SCENARIO, scenario.to_toml())
@@ -214,6 +225,9 @@ def run(
                 if dt_wall > 0:
                     bar.set_postfix_str(f"{taken / dt_wall:.0f} steps/s", refresh=False)
             record()
+            if _at_rest(summary["energies"], float(sim.time), sim_cfg):
+                summary["stopped_at_rest"] = True
+                break
     except KeyboardInterrupt:
         bar.close()
         finish("interrupted", "interrupted by the user (Ctrl-C)")

@@ -131,6 +131,14 @@ class Simulation(_Section):
     damping: _bounded(0.0, 1.0, hi_open=True) = Field(  # type: ignore[valid-type]
         0.0, description="Cundall local damping coefficient"
     )
+    stop_at_rest: _bounded(0.0, 1.0, hi_open=True) = Field(  # type: ignore[valid-type]
+        0.0,
+        description="stop (status completed) at the first output time when the kinetic energy is "
+        "below this fraction of the work done by gravity; 0 = run to end_time",
+    )
+    stop_at_rest_after: NonNegative = Field(
+        0.0, description="s: the at-rest test is applied only from this time on"
+    )
 
 
 class Grid(_Section):

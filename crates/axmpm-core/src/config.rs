@@ -33,7 +33,6 @@ pub enum UpdateScheme {
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct SimulationConfig {
     pub formulation: FormulationKind,
     #[serde(default = "default_shape")]
