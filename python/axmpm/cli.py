@@ -52,7 +52,23 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
     p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
+
+    for module in _command_modules():
+        module.add_parser(sub)
     return parser
+
+
+#: Modules that each define one more command: ``NAME`` (the command), ``add_parser(sub)``
+#: (adds its argparse sub-parser) and ``main(args) -> int`` (runs it, returns the exit code).
+#: Adding a command = one new module + one line here.
+COMMAND_MODULES: tuple[str, ...] = (
+)
+
+
+def _command_modules() -> list:
+    import importlib
+
+    return [importlib.import_module(name) for name in COMMAND_MODULES]
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
@@ -115,8 +131,10 @@ COMMANDS = {"run": _cmd_run, "check": _cmd_check, "schema": _cmd_schema, "demo":
 
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
+    commands = dict(COMMANDS)
+    commands.update({m.NAME: m.main for m in _command_modules()})
     try:
-        return COMMANDS[args.command](args)
+        return commands[args.command](args)
     except ScenarioError as exc:
         print(exc.render(), file=sys.stderr)
         return EXIT_INPUT
