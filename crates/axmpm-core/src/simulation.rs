@@ -246,6 +246,14 @@ impl Simulation {
     pub fn dt(&self) -> f64 {
         self.dt
     }
+    /// Bytes held per particle: the particle arrays plus the per-particle scratch of the step
+    /// (the grid and its lanes are counted separately, per node).
+    pub fn bytes_per_particle(&self) -> usize {
+        let n = self.state.particles.len().max(1);
+        let sc = &self.state.scratch;
+        let scratch = sc.velocity.capacity() * 16 + sc.displacement.capacity() * 16;
+        self.state.particles.bytes_per_particle() + scratch / n
+    }
     pub fn threads(&self) -> usize {
         self.pool.current_num_threads()
     }

@@ -25,7 +25,7 @@ use crate::formulation::Formulation;
 use crate::grid::{GridFields, GridGeometry};
 use crate::material::{Kinematics, Material};
 use crate::particles::Particles;
-use crate::shape::{ShapeFunction, Stencil};
+use crate::shape::{ParticleDomain, ShapeFunction, Stencil};
 
 /// Number of particle ranges scattered independently in particle → grid.
 pub const LANES: usize = 8;
@@ -68,8 +68,6 @@ impl Lane {
 pub struct Scratch {
     pub velocity: Vec<[f64; 2]>,
     pub displacement: Vec<[f64; 2]>,
-    pub velocity_gradient: Vec<[f64; 5]>,
-    pub area: Vec<f64>,
 }
 
 /// Parameters of the step that do not change during a run.
@@ -153,8 +151,6 @@ impl State {
         let n = self.particles.len();
         self.scratch.velocity = vec![[0.0; 2]; n];
         self.scratch.displacement = vec![[0.0; 2]; n];
-        self.scratch.velocity_gradient = vec![[0.0; 5]; n];
-        self.scratch.area = vec![0.0; n];
         self.lanes = (0..LANES).map(|_| Lane::new(self.grid.num_nodes())).collect();
     }
 }
@@ -399,106 +395,159 @@ fn remap_velocity(state: &mut State) {
     state.constraints.apply(state.time, &mut fields.velocity);
 }
 
-/// Velocity gradient, deformation gradient, volume, stress and position of every particle.
-fn update_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) -> Result<(), Failure> {
-    let grid = state.grid;
-    let axisymmetric = F::AXISYMMETRIC;
-    // Velocity field used for the strain rate: re-mapped (MUSL) or updated (USL).
-    let strain_velocity =
-        if state.parameters.scheme == UpdateScheme::Musl { &state.fields.velocity } else { &state.fields.velocity_new };
-    {
-        let particles = &state.particles;
-        state.scratch.velocity_gradient.par_iter_mut().enumerate().with_min_len(256).for_each_init(
-            Stencil::default,
-            |st, (p, l)| {
-                S::stencil(&grid, particles, p, axisymmetric, st);
-                let mut g = [0.0; 5];
-                let mut vr = 0.0;
-                for e in 0..st.len {
-                    let v = strain_velocity[st.node[e] as usize];
-                    let dw = st.gradient[e];
-                    g[0] += v[0] * dw[0];
-                    g[1] += v[0] * dw[1];
-                    g[2] += v[1] * dw[0];
-                    g[3] += v[1] * dw[1];
-                    vr += v[0] * st.weight[e];
-                }
-                // Hoop rate L_θθ = Σ v_r,i S_ip / R_p (zero in plane strain).
-                g[4] = vr * F::hoop_factor(particles.position[p]);
-                *l = g;
-            },
-        );
-    }
-    if S::USES_CORNERS {
-        let v_nodes = &state.fields.velocity_new;
-        state.particles.corners.par_iter_mut().with_min_len(256).for_each(|corners| {
-            S::advect_corners(&grid, v_nodes, dt, corners, axisymmetric);
-        });
-        let particles = &state.particles;
-        state.scratch.area.par_iter_mut().enumerate().with_min_len(256).for_each(|(p, a)| {
-            *a = S::domain_area(particles, p).unwrap_or(0.0);
-        });
-    }
+/// Read-only inputs of the per-particle update.
+struct UpdateInputs<'a> {
+    grid: GridGeometry,
+    dt: f64,
+    strain_velocity: &'a [[f64; 2]],
+    advect_velocity: &'a [[f64; 2]],
+    materials: &'a [Box<dyn Material>],
+    material_ids: &'a [u32],
+    initial_volume: &'a [f64],
+    initial_half_width: &'a [[f64; 2]],
+    velocity: &'a [[f64; 2]],
+    displacement: &'a [[f64; 2]],
+}
 
-    let materials = &state.materials;
-    let scratch = &state.scratch;
+/// The mutable state of one particle in the update pass.
+struct ParticleUpdate<'a> {
+    f: &'a mut [f64; 5],
+    stress: &'a mut [f64; 4],
+    volume: &'a mut f64,
+    position: &'a mut [f64; 2],
+    state: &'a mut [f64],
+    corners: Option<&'a mut [[f64; 2]; 4]>,
+}
+
+/// Velocity gradient (from the stencil at the start-of-step position and domain), deformation
+/// gradient, CPDI corners, position, volume and stress of one particle; returns a failure if
+/// its new state is invalid.
+#[inline(always)]
+fn update_particle<F: Formulation, S: ShapeFunction>(
+    inputs: &UpdateInputs,
+    p: usize,
+    u: ParticleUpdate,
+    st: &mut Stencil,
+) -> Option<Failure> {
+    let grid = &inputs.grid;
+    let dt = inputs.dt;
+    let domain = ParticleDomain {
+        position: *u.position,
+        initial_half_width: inputs.initial_half_width[p],
+        deformation_gradient: u.f,
+        corners: u.corners.as_deref(),
+    };
+    S::stencil_at(grid, &domain, F::AXISYMMETRIC, st);
+    // L_ij = Σ_i v_i ∂S_ip/∂x_j, and the hoop rate L_θθ = Σ v_r,i S_ip / R_p (0 in plane strain).
+    let mut l = [0.0; 5];
+    let mut vr = 0.0;
+    for e in 0..st.len {
+        let v = inputs.strain_velocity[st.node[e] as usize];
+        let dw = st.gradient[e];
+        l[0] += v[0] * dw[0];
+        l[1] += v[0] * dw[1];
+        l[2] += v[1] * dw[0];
+        l[3] += v[1] * dw[1];
+        vr += v[0] * st.weight[e];
+    }
+    l[4] = vr * F::hoop_factor(*u.position);
+
+    // F ← (I + Δt L) F in-plane; F33 ← (1 + Δt L33) F33.
+    let f = u.f;
+    let f_old = *f;
+    let a = [1.0 + dt * l[0], dt * l[1], dt * l[2], 1.0 + dt * l[3]];
+    f[0] = a[0] * f_old[0] + a[1] * f_old[2];
+    f[1] = a[0] * f_old[1] + a[1] * f_old[3];
+    f[2] = a[2] * f_old[0] + a[3] * f_old[2];
+    f[3] = a[2] * f_old[1] + a[3] * f_old[3];
+    f[4] = (1.0 + dt * l[4]) * f_old[4];
+    let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
+
+    let x = u.position;
+    let d = inputs.displacement[p];
+    x[0] += d[0];
+    x[1] += d[1];
+    *u.volume = match u.corners {
+        Some(corners) => {
+            S::advect_corners(grid, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
+            S::domain_area(corners).unwrap_or(0.0) * F::volume_factor(*x)
+        }
+        None => inputs.initial_volume[p] * jacobian,
+    };
+    let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, dt };
+    let material = &inputs.materials[inputs.material_ids[p] as usize];
+    material.update_stress(u.stress, u.state, &kinematics);
+
+    let finite = x[0].is_finite()
+        && x[1].is_finite()
+        && u.stress.iter().all(|s| s.is_finite())
+        && inputs.velocity[p].iter().all(|v| v.is_finite());
+    if !finite {
+        Some(Failure::NotFinite { particle: p })
+    } else if !grid.contains(*x) || (F::AXISYMMETRIC && x[0] <= 0.0) {
+        Some(Failure::LeftGrid { particle: p, position: *x })
+    } else if !(jacobian > 0.0) {
+        Some(Failure::InvertedJacobian { particle: p, jacobian })
+    } else {
+        None
+    }
+}
+
+/// Velocity gradient, deformation gradient, volume, stress and position of every particle, in
+/// one pass (each particle reads its start-of-step position and domain before moving them).
+fn update_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) -> Result<(), Failure> {
     let particles = &mut state.particles;
     let stride = particles.state_stride.max(1);
-    if particles.state.is_empty() {
-        // Keep the zipped chunks below aligned when no material has state.
+    if particles.state.len() != particles.len() * stride {
+        // Keep the zipped state chunks aligned when no material has state.
         particles.state = vec![0.0; particles.len() * stride];
         particles.state_stride = stride;
     }
-    let material_ids = &particles.material;
-    let initial_volume = &particles.initial_volume;
-    let velocity = &particles.velocity;
-    particles
+    let inputs = UpdateInputs {
+        grid: state.grid,
+        dt,
+        // Strain rate from the re-mapped (MUSL) or updated (USL) velocities; corners move with
+        // the updated velocities, like the particle positions.
+        strain_velocity: if state.parameters.scheme == UpdateScheme::Musl {
+            &state.fields.velocity
+        } else {
+            &state.fields.velocity_new
+        },
+        advect_velocity: &state.fields.velocity_new,
+        materials: &state.materials,
+        material_ids: &particles.material,
+        initial_volume: &particles.initial_volume,
+        initial_half_width: &particles.initial_half_width,
+        velocity: &particles.velocity,
+        displacement: &state.scratch.displacement,
+    };
+    let state_len = |p: usize| inputs.materials[inputs.material_ids[p] as usize].state_names().len();
+    let common = particles
         .deformation_gradient
         .par_iter_mut()
         .zip(particles.stress.par_iter_mut())
         .zip(particles.volume.par_iter_mut())
         .zip(particles.position.par_iter_mut())
-        .zip(particles.state.par_chunks_mut(stride))
-        .enumerate()
-        .with_min_len(256)
-        .map(|(p, ((((f, stress), volume), x), st))| {
-            let l = scratch.velocity_gradient[p];
-            // F ← (I + Δt L) F in-plane; F33 ← (1 + Δt L33) F33.
-            let f_old = *f;
-            let a = [1.0 + dt * l[0], dt * l[1], dt * l[2], 1.0 + dt * l[3]];
-            f[0] = a[0] * f_old[0] + a[1] * f_old[2];
-            f[1] = a[0] * f_old[1] + a[1] * f_old[3];
-            f[2] = a[2] * f_old[0] + a[3] * f_old[2];
-            f[3] = a[2] * f_old[1] + a[3] * f_old[3];
-            f[4] = (1.0 + dt * l[4]) * f_old[4];
-            let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
-            let d = scratch.displacement[p];
-            x[0] += d[0];
-            x[1] += d[1];
-            *volume = if S::USES_CORNERS {
-                scratch.area[p] * F::volume_factor(*x)
-            } else {
-                initial_volume[p] * jacobian
-            };
-            let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, dt };
-            let material = &materials[material_ids[p] as usize];
-            let n_state = material.state_names().len();
-            material.update_stress(stress, &mut st[..n_state], &kinematics);
-
-            let finite = x[0].is_finite()
-                && x[1].is_finite()
-                && stress.iter().all(|s| s.is_finite())
-                && velocity[p].iter().all(|v| v.is_finite());
-            if !finite {
-                Some(Failure::NotFinite { particle: p })
-            } else if !grid.contains(*x) || (axisymmetric && x[0] <= 0.0) {
-                Some(Failure::LeftGrid { particle: p, position: *x })
-            } else if !(jacobian > 0.0) {
-                Some(Failure::InvertedJacobian { particle: p, jacobian })
-            } else {
-                None
-            }
-        })
-        .reduce(|| None, first_failure)
-        .map_or(Ok(()), Err)
+        .zip(particles.state.par_chunks_mut(stride));
+    let failure = if S::USES_CORNERS {
+        common
+            .zip(particles.corners.par_iter_mut())
+            .enumerate()
+            .with_min_len(256)
+            .map_init(Stencil::default, |st, (p, (((((f, stress), volume), position), s), corners))| {
+                let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: Some(corners) };
+                update_particle::<F, S>(&inputs, p, u, st)
+            })
+            .reduce(|| None, first_failure)
+    } else {
+        common
+            .enumerate()
+            .with_min_len(256)
+            .map_init(Stencil::default, |st, (p, ((((f, stress), volume), position), s))| {
+                let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: None };
+                update_particle::<F, S>(&inputs, p, u, st)
+            })
+            .reduce(|| None, first_failure)
+    };
+    failure.map_or(Ok(()), Err)
 }

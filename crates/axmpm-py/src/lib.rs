@@ -85,7 +85,7 @@ impl PySimulation {
     }
     #[getter]
     fn bytes_per_particle(&self) -> usize {
-        self.inner.particles().bytes_per_particle()
+        self.inner.bytes_per_particle()
     }
 
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -146,6 +146,17 @@ impl PySimulation {
         let d = PyDict::new(py);
         d.set_item("kinetic_energy", e.kinetic_energy)?;
         d.set_item("gravity_work", e.gravity_work)?;
+        Ok(d)
+    }
+    /// Wall seconds spent in each phase of the step since construction:
+    /// {"particle_to_grid", "grid_update", "grid_to_particle", "constitutive_update"}.
+    fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let t = self.inner.timings();
+        let d = PyDict::new(py);
+        d.set_item("particle_to_grid", t.particle_to_grid)?;
+        d.set_item("grid_update", t.grid_update)?;
+        d.set_item("grid_to_particle", t.grid_to_particle)?;
+        d.set_item("constitutive_update", t.constitutive_update)?;
         Ok(d)
     }
     /// The failure message once the run has failed, else None.

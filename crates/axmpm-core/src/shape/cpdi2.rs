@@ -27,9 +27,8 @@
 //! - A degenerate or inverted quadrilateral (V ≤ 0 or not finite) falls back to the linear
 //!   hat at the particle position, so the solver does not divide by zero.
 
-use super::{bilinear_nodes, ShapeFunction, Stencil};
+use super::{bilinear_nodes, ParticleDomain, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
-use crate::particles::Particles;
 
 pub struct Cpdi2;
 
@@ -61,9 +60,13 @@ impl ShapeFunction for Cpdi2 {
     const USES_CORNERS: bool = true;
 
     #[inline(always)]
-    fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil) {
+    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
         out.clear();
-        let mut c = particles.corners[p];
+        let Some(&corners) = domain.corners else {
+            bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
+            return;
+        };
+        let mut c = corners;
         if axisymmetric {
             for corner in c.iter_mut() {
                 corner[0] = corner[0].max(0.0);
@@ -71,7 +74,7 @@ impl ShapeFunction for Cpdi2 {
         }
         let (w, wg, v) = corner_weights(&c);
         if !(v > 0.0 && v.is_finite()) {
-            bilinear_nodes(grid, particles.position[p], |node, s, g| out.push(node, s, g));
+            bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
             return;
         }
         for k in 0..4 {
@@ -81,8 +84,8 @@ impl ShapeFunction for Cpdi2 {
     }
 
     #[inline(always)]
-    fn domain_area(particles: &Particles, p: usize) -> Option<f64> {
-        Some(shoelace(&particles.corners[p]))
+    fn domain_area(corners: &[[f64; 2]; 4]) -> Option<f64> {
+        Some(shoelace(corners))
     }
 
     /// x_c ← x_c + dt Σ_i N_i(x_c) v_i, with the corner first clamped into the grid box (so a
@@ -120,6 +123,7 @@ mod tests {
     use super::*;
     use crate::shape::testing::*;
     use crate::shape::{hat, Linear};
+    use crate::particles::Particles;
 
     /// xorshift64*: deterministic random numbers in [0, 1) without a dependency.
     struct Rng(u64);
@@ -347,10 +351,10 @@ mod tests {
     #[test]
     fn domain_area_is_the_shoelace_area() {
         let p = particle_with_corners(Particles::rectangle_corners([0.4, 0.6], [0.02, 0.03]));
-        assert!((Cpdi2::domain_area(&p, 0).unwrap() - 4.0 * 0.02 * 0.03).abs() < 1e-15);
+        assert!((Cpdi2::domain_area(&p.corners[0]).unwrap() - 4.0 * 0.02 * 0.03).abs() < 1e-15);
         // Triangle-like quad (0,0), (2,0), (2,1), (0,3): area 2·1 + 2·2/2 = 4.
         let p = particle_with_corners([[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 3.0]]);
-        assert!((Cpdi2::domain_area(&p, 0).unwrap() - 4.0).abs() < 1e-14);
+        assert!((Cpdi2::domain_area(&p.corners[0]).unwrap() - 4.0).abs() < 1e-14);
         // Generic quad against the edge-sum shoelace formula.
         let mut rng = Rng(5);
         for _ in 0..100 {
@@ -362,7 +366,7 @@ mod tests {
             let edge: f64 =
                 (0..4).map(|k| c[k][0] * c[(k + 1) % 4][1] - c[(k + 1) % 4][0] * c[k][1]).sum::<f64>() / 2.0;
             let p = particle_with_corners(c);
-            assert!((Cpdi2::domain_area(&p, 0).unwrap() - edge).abs() < 1e-15);
+            assert!((Cpdi2::domain_area(&p.corners[0]).unwrap() - edge).abs() < 1e-15);
             assert!(edge > 0.0);
         }
     }

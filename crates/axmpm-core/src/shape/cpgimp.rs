@@ -19,9 +19,8 @@
 //! centred; nodes outside the grid are dropped.
 
 use super::ugimp::gimp_stencil;
-use super::{ShapeFunction, Stencil};
+use super::{ParticleDomain, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
-use crate::particles::Particles;
 
 pub struct CpGimp;
 
@@ -29,10 +28,10 @@ impl ShapeFunction for CpGimp {
     const NAME: &'static str = "cpgimp";
 
     #[inline(always)]
-    fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil) {
-        let l0 = particles.initial_half_width[p];
-        let f = &particles.deformation_gradient[p];
-        gimp_stencil(grid, particles.position[p], [l0[0] * f[0], l0[1] * f[3]], axisymmetric, out)
+    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+        let l0 = domain.initial_half_width;
+        let f = domain.deformation_gradient;
+        gimp_stencil(grid, domain.position, [l0[0] * f[0], l0[1] * f[3]], axisymmetric, out)
     }
 }
 

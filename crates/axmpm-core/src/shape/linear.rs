@@ -1,9 +1,8 @@
 //! Original MPM: the bilinear hat function of the cell containing the particle
 //! (Sulsky, Chen & Schreyer 1994). Cheapest, and noisy when particles cross cell faces.
 
-use super::{bilinear_nodes, ShapeFunction, Stencil};
+use super::{bilinear_nodes, ParticleDomain, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
-use crate::particles::Particles;
 
 pub struct Linear;
 
@@ -11,9 +10,9 @@ impl ShapeFunction for Linear {
     const NAME: &'static str = "linear";
 
     #[inline(always)]
-    fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, _axisymmetric: bool, out: &mut Stencil) {
+    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, _axisymmetric: bool, out: &mut Stencil) {
         out.clear();
-        bilinear_nodes(grid, particles.position[p], |node, w, g| out.push(node, w, g));
+        bilinear_nodes(grid, domain.position, |node, w, g| out.push(node, w, g));
     }
 }
 

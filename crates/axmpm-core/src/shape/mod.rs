@@ -13,7 +13,7 @@
 //!   half-width to R_p, CPDI2 clamps corners to r ≥ 0.
 
 use crate::grid::GridGeometry;
-use crate::particles::Particles;
+use crate::particles::{DeformationGradient, Particles};
 
 pub mod cpdi2;
 pub mod cpgimp;
@@ -74,6 +74,29 @@ impl Stencil {
     }
 }
 
+/// What a scheme may read of one particle's domain (borrowed from the particle arrays, so
+/// the solver can evaluate the stencil while it updates the same particle).
+#[derive(Clone, Copy, Debug)]
+pub struct ParticleDomain<'a> {
+    pub position: [f64; 2],
+    pub initial_half_width: [f64; 2],
+    pub deformation_gradient: &'a DeformationGradient,
+    /// CPDI2 corners; `None` for schemes without corners.
+    pub corners: Option<&'a [[f64; 2]; 4]>,
+}
+
+impl<'a> ParticleDomain<'a> {
+    #[inline(always)]
+    pub fn of(particles: &'a Particles, p: usize) -> Self {
+        Self {
+            position: particles.position[p],
+            initial_half_width: particles.initial_half_width[p],
+            deformation_gradient: &particles.deformation_gradient[p],
+            corners: particles.corners.get(p),
+        }
+    }
+}
+
 /// An interpolation scheme.
 pub trait ShapeFunction: Send + Sync + 'static {
     /// Name selected by `simulation.shape_function`.
@@ -81,14 +104,20 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// Whether particles carry domain corners that move with the grid (CPDI2).
     const USES_CORNERS: bool = false;
 
-    /// Writes S_ip and ∇S_ip of particle `p` into `out` (cleared first).
+    /// Writes S_ip and ∇S_ip of a particle domain into `out` (cleared first).
     /// `axisymmetric` asks for domains truncated at the axis r = 0.
-    fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil);
+    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil);
+
+    /// [`ShapeFunction::stencil_at`] for particle `p` of `particles`.
+    #[inline(always)]
+    fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil) {
+        Self::stencil_at(grid, &ParticleDomain::of(particles, p), axisymmetric, out)
+    }
 
     /// In-plane area of the particle domain when the scheme tracks it (CPDI2: the
-    /// quadrilateral's area); `None` means the area follows from the deformation gradient.
+    /// quadrilateral's area from its corners); `None` means the area follows from F.
     #[inline(always)]
-    fn domain_area(_particles: &Particles, _p: usize) -> Option<f64> {
+    fn domain_area(_corners: &[[f64; 2]; 4]) -> Option<f64> {
         None
     }
 

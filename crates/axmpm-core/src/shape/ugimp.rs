@@ -18,9 +18,8 @@
 
 #[cfg(doc)]
 use super::gimp_weight;
-use super::{fast_floor, ShapeFunction, Stencil};
+use super::{fast_floor, ParticleDomain, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
-use crate::particles::Particles;
 
 pub struct UGimp;
 
@@ -28,8 +27,8 @@ impl ShapeFunction for UGimp {
     const NAME: &'static str = "ugimp";
 
     #[inline(always)]
-    fn stencil(grid: &GridGeometry, particles: &Particles, p: usize, axisymmetric: bool, out: &mut Stencil) {
-        gimp_stencil(grid, particles.position[p], particles.initial_half_width[p], axisymmetric, out)
+    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+        gimp_stencil(grid, domain.position, domain.initial_half_width, axisymmetric, out)
     }
 }
 
