@@ -202,7 +202,7 @@ def test_run_interrupt_exit_130(tiny_toml: Path, tmp_path: Path) -> None:
 
 def test_demo(tmp_path: Path) -> None:
     out = tmp_path / "demo"
-    result = run_cli("demo", "--out", out)
+    result = run_cli("demo", "--column", "--out", out)
     assert result.returncode == 0, result.stderr
     assert "particle-steps/s" in result.stdout
     assert "vertical stress error vs exact" in result.stdout

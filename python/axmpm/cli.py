@@ -47,7 +47,10 @@ def _parser() -> argparse.ArgumentParser:
 
     sub.add_parser("schema", help="print the JSON Schema of scenario files")
 
-    p = sub.add_parser("demo", help="1D column vs its exact solution (axisymmetric, linear MPM)")
+    p = sub.add_parser("demo", help="granular column collapse a = 0.56 vs Lube et al. 2004 "
+                       "(--column: 1D column vs its exact solution)")
+    p.add_argument("--column", action="store_true",
+                   help="the 1D column vs its exact solution (axisymmetric, linear MPM) instead")
     p.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder (default runs/demo)")
     p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
     p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
@@ -62,6 +65,12 @@ def _parser() -> argparse.ArgumentParser:
 #: (adds its argparse sub-parser) and ``main(args) -> int`` (runs it, returns the exit code).
 #: Adding a command = one new module + one line here.
 COMMAND_MODULES: tuple[str, ...] = (
+    "axmpm.resume",
+    "axmpm.verify",
+    "axmpm.bench",
+    "axmpm.sweep",
+    "axmpm.validate",
+    "axmpm.calibrate",
 )
 
 
@@ -113,6 +122,23 @@ def _cmd_schema(args: argparse.Namespace) -> int:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
+    if not args.column:
+        from .demo import run_collapse_demo
+
+        print("Granular column collapse, a = 0.56, axisymmetric, Mohr-Coulomb (phi 25, psi 0), "
+              "2 mm cells (15 per R_i), cpGIMP")
+        res = run_collapse_demo(args.out, overwrite=args.overwrite, threads=args.threads,
+                                progress=args.progress)
+        code = _report_run(res.summary, res.out)
+        if res.case is not None:
+            c, lube = res.case, res.case["laws"]["lube2004"]
+            print(f"runout (R_inf - R_i)/R_i = {c['runout_normalised']:.3f} vs Lube et al. 2004 "
+                  f"{lube['runout_normalised']:.3f} ({100 * lube['runout_normalised_rel_diff']:+.0f} %)")
+            print(f"final height H_inf/R_i = {c['final_height_normalised']:.3f} vs Lube et al. 2004 "
+                  f"{lube['final_height_normalised']:.3f} ({100 * lube['final_height_rel_diff']:+.0f} %)")
+            print(f"figures and summary: {res.figure}, {res.report}")
+        return code
+
     from .demo import run_demo
 
     print("1D column under self-weight, compression, rho0 g H / E = 0.01, axisymmetric, linear MPM")

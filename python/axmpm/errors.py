@@ -28,8 +28,11 @@ class ScenarioError(Exception):
         super().__init__(self.render())
 
     def render(self) -> str:
+        """One line per problem; control characters in keys or messages (a key may be any
+        string in TOML) are escaped, so that each problem stays on one line."""
         lines = []
         for key, message in self.errors:
+            key, message = _one_line(key), _one_line(message)
             lines.append(f"error: {key}: {message}" if key else f"error: {message}")
         return "\n".join(lines)
 
@@ -42,7 +45,15 @@ class ScenarioError(Exception):
 
 
 class RunError(Exception):
-    """A run could not start (bad output folder, engine missing or rejecting the scenario)."""
+    """A run could not start or resume (bad output folder, engine missing or rejecting the
+    scenario, a run folder without a usable checkpoint)."""
 
     def render(self) -> str:
-        return f"error: {self}"
+        return f"error: {_one_line(str(self))}"
+
+
+def _one_line(text: str) -> str:
+    """``text`` with every non-printable character (newline, tab, control) escaped."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)

@@ -8,14 +8,19 @@ Layout of a run folder::
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these
+    checkpoint.npz           latest restart point (engine state at an output time + metadata),
+                             see :func:`write_checkpoint`; ``axmpm resume`` continues from it
 
 Every file is written under a temporary name and moved into place with ``os.replace``, so
-a reader never sees a half-written file.
+a reader (or a run killed at any moment) never sees a half-written file; a frame is listed
+in ``particles.pvd`` only after both its .npz and .vtu are in place. ``history.csv`` is
+rewritten whole (atomically) at every output time.
 """
 
 from __future__ import annotations
 
 import csv
+import io
 import json
 import os
 from collections.abc import Sequence
@@ -40,8 +45,14 @@ __all__ = [
     "write_pvd",
     "write_json",
     "HistoryWriter",
+    "Checkpoint",
+    "write_checkpoint",
+    "read_checkpoint",
+    "remove_frames_from",
+    "remove_temporary_files",
     "SUMMARY",
     "PROGRAM",
+    "CHECKPOINT",
 ]
 
 PROGRAM = "axmpm"
@@ -50,6 +61,7 @@ SCENARIO = "scenario.toml"
 HISTORY = "history.csv"
 PVD = "particles.pvd"
 FRAMES = "frames"
+CHECKPOINT = "checkpoint.npz"
 
 
 def stress_names(formulation: str) -> list[str]:
@@ -204,19 +216,155 @@ def write_pvd(run_dir: Path, entries: Sequence[tuple[float, Path]]) -> None:
 
 
 class HistoryWriter:
-    """Appends rows to ``history.csv``; the columns are fixed by the first row."""
+    """Rows of ``history.csv``; the columns are fixed by the first row. The file is rewritten
+    atomically after every row, so it never ends in a partial line."""
 
     def __init__(self, path: Path):
         self.path = path
         self.columns: list[str] | None = None
+        self.lines: list[str] = []
 
     def append(self, row: dict[str, float]) -> None:
         if self.columns is None:
             self.columns = list(row)
-            with open(self.path, "w", newline="") as fh:
-                csv.writer(fh).writerow(self.columns)
-        with open(self.path, "a", newline="") as fh:
-            csv.writer(fh).writerow([repr(float(row.get(c, float("nan")))) for c in self.columns])
+            self.lines = [_csv_line(self.columns)]
+        self.lines.append(_csv_line([repr(float(row.get(c, float("nan")))) for c in self.columns]))
+        write_text(self.path, "".join(self.lines))
+
+    @classmethod
+    def resume(cls, path: Path, until_time: float) -> "HistoryWriter":
+        """Continue an existing ``history.csv``, dropping the rows after ``until_time``."""
+        writer = cls(path)
+        if not path.exists():
+            return writer
+        with open(path, newline="") as fh:
+            rows = list(csv.reader(fh))
+        if not rows:
+            return writer
+        writer.columns = rows[0]
+        writer.lines = [_csv_line(writer.columns)]
+        try:
+            t = writer.columns.index("time")
+        except ValueError:
+            t = 0
+        for r in rows[1:]:
+            if len(r) != len(writer.columns):
+                continue  # a damaged line (older, non-atomic writers)
+            try:
+                if float(r[t]) > until_time:
+                    continue
+            except ValueError:
+                continue
+            writer.lines.append(_csv_line(r))
+        write_text(path, "".join(writer.lines))
+        return writer
+
+
+def _csv_line(values: Sequence[str]) -> str:
+    buf = io.StringIO()
+    csv.writer(buf, lineterminator="\n").writerow(values)
+    return buf.getvalue()
+
+
+# --------------------------------------------------------------------------- checkpoints
+
+
+@dataclass
+class Checkpoint:
+    """A restart point: the engine's ``Simulation.to_bytes()`` at an output time, plus what
+    the front end needs to continue the run folder from there."""
+
+    engine: bytes
+    time: float  # s, an output time
+    steps: int
+    output_index: int  # k: the checkpoint is at output time min(k * output_interval, end_time)
+    frame_times: list[float]  # times of the frames 0 .. len-1 written up to and including it
+    wall_seconds: float = 0.0  # wall and engine time spent up to the checkpoint
+    engine_seconds: float = 0.0
+    energies: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def frames(self) -> int:
+        return len(self.frame_times)
+
+    def meta(self) -> dict[str, Any]:
+        return {
+            "time": self.time,
+            "steps": self.steps,
+            "output_index": self.output_index,
+            "frames": self.frames,
+            "file": CHECKPOINT,
+        }
+
+
+def write_checkpoint(run_dir: Path, ckpt: Checkpoint) -> Path:
+    """Write ``checkpoint.npz`` atomically (replacing the previous one); return its path."""
+    path = Path(run_dir) / CHECKPOINT
+    tmp = path.with_name(f".checkpoint.tmp{os.getpid()}.npz")
+    meta = {
+        "program": PROGRAM,
+        "time": ckpt.time,
+        "steps": ckpt.steps,
+        "output_index": ckpt.output_index,
+        "frame_times": [float(t) for t in ckpt.frame_times],
+        "wall_seconds": ckpt.wall_seconds,
+        "engine_seconds": ckpt.engine_seconds,
+        "energies": ckpt.energies,
+    }
+    np.savez(tmp, engine=np.frombuffer(bytes(ckpt.engine), dtype=np.uint8), meta=np.array(json.dumps(meta)))
+    os.replace(tmp, path)
+    return path
+
+
+def read_checkpoint(run_dir: Path) -> Checkpoint:
+    """Read ``checkpoint.npz``; ``FileNotFoundError`` if there is none, ``ValueError`` if it
+    is not a readable axmpm checkpoint."""
+    path = Path(run_dir) / CHECKPOINT
+    if not path.exists():
+        raise FileNotFoundError(str(path))
+    try:
+        with np.load(path) as z:
+            engine = z["engine"].tobytes()
+            meta = json.loads(str(z["meta"]))
+        if meta.get("program") != PROGRAM:
+            raise ValueError("not written by axmpm")
+        return Checkpoint(
+            engine=engine,
+            time=float(meta["time"]),
+            steps=int(meta["steps"]),
+            output_index=int(meta["output_index"]),
+            frame_times=[float(t) for t in meta["frame_times"]],
+            wall_seconds=float(meta.get("wall_seconds", 0.0)),
+            engine_seconds=float(meta.get("engine_seconds", 0.0)),
+            energies={str(k): float(v) for k, v in meta.get("energies", {}).items()},
+        )
+    except (OSError, KeyError, TypeError, ValueError) as exc:
+        raise ValueError(f"{path} is not a readable axmpm checkpoint ({exc})") from None
+
+
+def remove_frames_from(run_dir: Path, first: int) -> None:
+    """Delete frames ``first``, ``first + 1``, ... (written after a checkpoint)."""
+    frames = Path(run_dir) / FRAMES
+    if not frames.is_dir():
+        return
+    for p in frames.glob("frame_*.*"):
+        stem = p.name.split(".", 1)[0]
+        try:
+            index = int(stem.removeprefix("frame_"))
+        except ValueError:
+            continue
+        if index >= first and p.suffix in (".npz", ".vtu"):
+            p.unlink()
+
+
+def remove_temporary_files(run_dir: Path) -> None:
+    """Delete ``.NAME.tmpPID*`` files a killed process may have left behind."""
+    run_dir = Path(run_dir)
+    for folder in (run_dir, run_dir / FRAMES):
+        if folder.is_dir():
+            for p in folder.glob(".*.tmp*"):
+                if p.is_file():
+                    p.unlink()
 
 
 # --------------------------------------------------------------------------- reading

@@ -1,31 +1,52 @@
-"""Running a scenario: the engine loop, output at every output time, summary and history.
+"""Running a scenario: the engine loop, output at every output time, summary, history and
+restart checkpoints.
 
 The engine advances in chunks of at most ``chunk_steps`` steps (``Simulation.advance``
-releases the GIL), so Ctrl-C is seen between chunks: the run then records status
-``interrupted`` in ``summary.json`` and re-raises ``KeyboardInterrupt``. An engine
-``SimulationFailure`` ends the run with status ``failed`` and the engine's message; the
-frames already written are kept.
+releases the GIL). Ctrl-C (SIGINT) sets a flag that is looked at between chunks: the run
+then stops, writes the checkpoint of the last output time, records status ``interrupted``
+in ``summary.json`` and re-raises ``KeyboardInterrupt`` (a second Ctrl-C aborts at once).
+An engine ``SimulationFailure`` (NaN/inf, a particle leaving the grid, an inverted
+Jacobian) ends the run with status ``failed`` and the engine's message; the frames already
+written are kept and the checkpoint of the last good output time is written (the engine's
+state after a failure is not usable, so the runner keeps the bytes of the last good one).
+
+Checkpoints (``checkpoint.npz``, the latest only) are always at output times, because the
+engine resumes bit for bit only when the resumed run stops at the same times: every
+``simulation.checkpoint_interval`` rounded up to a whole number of output intervals, and
+whenever the run stops. :func:`resume` continues a run folder from its checkpoint.
+See docs/robustness.md.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import shutil
+import signal
 import sys
+import threading
 import time as _time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 from .errors import RunError
 from .output import (
+    FRAMES,
     HISTORY,
     PROGRAM,
     SCENARIO,
     SUMMARY,
+    Checkpoint,
     FrameData,
     HistoryWriter,
+    frame_stem,
     is_run_folder,
+    read_checkpoint,
+    remove_frames_from,
+    remove_temporary_files,
+    write_checkpoint,
     write_frame,
     write_json,
     write_pvd,
@@ -33,7 +54,8 @@ from .output import (
 )
 from .scenario import Scenario
 
-__all__ = ["run", "check_output_folder", "prepare_output_folder", "DEFAULT_CHUNK_STEPS"]
+__all__ = ["run", "resume", "check_output_folder", "prepare_output_folder", "checkpoint_every",
+           "DEFAULT_CHUNK_STEPS"]
 
 #: Steps per ``advance`` call: small enough for a responsive Ctrl-C and progress bar.
 DEFAULT_CHUNK_STEPS = 200
@@ -110,6 +132,212 @@ def _at_rest(energies: dict[str, float], time: float, sim_cfg: Any) -> bool:
     return released > 0.0 and energies.get("kinetic_energy", 0.0) < ratio * released
 
 
+def checkpoint_every(sim_cfg: Any) -> int | None:
+    """Output intervals between periodic checkpoints: ``checkpoint_interval`` rounded up to
+    a whole number of ``output_interval`` (checkpoints must fall on output times); None when
+    no periodic checkpoints are asked for."""
+    interval = getattr(sim_cfg, "checkpoint_interval", None)
+    if not interval:
+        return None
+    return max(1, math.ceil(interval / sim_cfg.output_interval - 1e-9))
+
+
+def _output_count(sim_cfg: Any) -> int:
+    return max(1, math.ceil(sim_cfg.end_time / sim_cfg.output_interval - 1e-9))
+
+
+def _output_time(sim_cfg: Any, k: int) -> float:
+    return min(k * sim_cfg.output_interval, sim_cfg.end_time)
+
+
+@contextlib.contextmanager
+def _sigint_flag() -> Iterator[dict[str, bool]]:
+    """While active, the first Ctrl-C only sets ``flag["hit"]`` (the run stops cleanly after
+    the current chunk); a second one raises ``KeyboardInterrupt`` at once. Only in the main
+    thread and when Python's default SIGINT handler is installed; elsewhere Ctrl-C raises
+    ``KeyboardInterrupt`` as usual (also handled)."""
+    flag = {"hit": False}
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
+        yield flag
+        return
+
+    def handler(signum: int, frame: Any) -> None:
+        if flag["hit"]:
+            raise KeyboardInterrupt
+        flag["hit"] = True
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield flag
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+class _NoBar:
+    def close(self) -> None:
+        pass
+
+
+class _Driver:
+    """The output loop shared by :func:`run` and :func:`resume`."""
+
+    def __init__(self, sim: Any, failure_type: type[BaseException], scenario: Scenario, out: Path,
+                 summary: dict[str, Any], history: HistoryWriter, pvd_entries: list[tuple[float, Path]],
+                 *, progress: bool | None, chunk_steps: int, checkpoints: bool,
+                 wall_offset: float = 0.0, engine_seconds: float = 0.0):
+        self.sim = sim
+        self.failure_type = failure_type
+        self.scenario = scenario
+        self.sim_cfg = scenario.simulation
+        self.out = out
+        self.summary = summary
+        self.history = history
+        self.pvd_entries = pvd_entries
+        self.progress = progress
+        self.chunk_steps = int(chunk_steps)
+        self.checkpoints = checkpoints
+        self.started = _time.perf_counter()
+        self.wall_offset = wall_offset
+        self.engine_seconds = engine_seconds
+        self.last_good: Checkpoint | None = None
+
+    def wall(self) -> float:
+        return self.wall_offset + (_time.perf_counter() - self.started)
+
+    # -- pieces -------------------------------------------------------------------------
+
+    def record(self) -> None:
+        """Frame, pvd and history row at the current (output) time."""
+        sim, out = self.sim, self.out
+        frame = FrameData.from_simulation(sim)
+        vtu = write_frame(out, len(self.pvd_entries), frame, self.sim_cfg.formulation)
+        self.pvd_entries.append((frame.time, vtu))
+        write_pvd(out, self.pvd_entries)
+        energies = {k: float(v) for k, v in sim.energies().items()}
+        self.history.append(
+            {"time": frame.time, "steps": frame.steps, "dt": float(sim.dt),
+             **dict(sorted(energies.items())), "wall_seconds": self.wall()}
+        )
+        self.summary["energies"] = energies
+
+    def snapshot(self, k: int) -> None:
+        """Keep the engine state of output ``k`` in memory: the last good restart point."""
+        if not self.checkpoints:
+            return
+        sim = self.sim
+        self.last_good = Checkpoint(
+            engine=bytes(sim.to_bytes()),
+            time=float(sim.time),
+            steps=int(sim.steps),
+            output_index=k,
+            frame_times=[t for t, _ in self.pvd_entries],
+            wall_seconds=self.wall(),
+            engine_seconds=self.engine_seconds,
+            energies=dict(self.summary.get("energies", {})),
+        )
+
+    def save_checkpoint(self) -> None:
+        """Write the last good restart point to ``checkpoint.npz`` (if any)."""
+        if self.last_good is None:
+            return
+        write_checkpoint(self.out, self.last_good)
+        self.summary["checkpoint"] = self.last_good.meta()
+
+    def finish(self, status: str, message: str = "") -> dict[str, Any]:
+        sim, summary = self.sim, self.summary
+        steps = int(sim.steps)
+        engine_seconds = self.engine_seconds
+        summary.update(
+            status=status,
+            message=message,
+            steps=steps,
+            end_time=float(sim.time),
+            dt=float(sim.dt),
+            wall_seconds=self.wall(),
+            engine_seconds=engine_seconds,
+            particle_steps_per_second=(steps * int(sim.num_particles) / engine_seconds) if engine_seconds > 0 else 0.0,
+            frames=len(self.pvd_entries),
+        )
+        if status == "failed" and self.pvd_entries:
+            summary["last_good_time"] = float(self.pvd_entries[-1][0])
+            summary["last_good_frame"] = len(self.pvd_entries) - 1
+        if status != "failed":
+            try:
+                summary["energies"] = {k: float(v) for k, v in sim.energies().items()}
+            except Exception:  # pragma: no cover - keep the last recorded energies
+                pass
+        write_json(self.out / SUMMARY, summary)
+        return summary
+
+    # -- the loop -----------------------------------------------------------------------
+
+    def drive(self, start_k: int) -> dict[str, Any]:
+        """Advance from output ``start_k`` (already recorded) to the end."""
+        sim, sim_cfg = self.sim, self.sim_cfg
+        end_time = sim_cfg.end_time
+        n_outputs = _output_count(sim_cfg)
+        every = checkpoint_every(sim_cfg)
+        tolerance = 1e-12 * end_time
+        bar: Any = _NoBar()
+        try:
+            bar = _progress_bar(end_time, self.progress)
+            bar.update(float(sim.time))
+            with _sigint_flag() as flag:
+                for k in range(start_k + 1, n_outputs + 1):
+                    target = _output_time(sim_cfg, k)
+                    while sim.time < target - tolerance:
+                        if flag["hit"]:
+                            raise KeyboardInterrupt
+                        t0 = _time.perf_counter()
+                        try:
+                            taken = sim.advance(target, max_steps=self.chunk_steps)
+                        except self.failure_type as exc:
+                            self.engine_seconds += _time.perf_counter() - t0
+                            bar.close()
+                            return self.fail(str(exc) or type(exc).__name__)
+                        dt_wall = _time.perf_counter() - t0
+                        self.engine_seconds += dt_wall
+                        if taken == 0 and sim.time < target - tolerance:
+                            bar.close()
+                            return self.fail(f"the engine made no progress at t = {sim.time:g} s")
+                        bar.update(float(sim.time) - bar.n)
+                        if dt_wall > 0:
+                            bar.set_postfix_str(f"{taken / dt_wall:.0f} steps/s", refresh=False)
+                    self.record()
+                    self.snapshot(k)
+                    if _at_rest(self.summary["energies"], float(sim.time), sim_cfg):
+                        self.summary["stopped_at_rest"] = True
+                        break
+                    if flag["hit"]:
+                        raise KeyboardInterrupt
+                    if every is not None and k % every == 0 and k < n_outputs:
+                        self.save_checkpoint()
+                        write_json(self.out / SUMMARY, self.summary)
+        except KeyboardInterrupt:
+            bar.close()
+            self.save_checkpoint()
+            self.finish("interrupted", "interrupted by the user (Ctrl-C)")
+            ckpt = self.summary.get("checkpoint")
+            where = f"; checkpoint at t = {ckpt['time']:.6g} s" if ckpt else ""
+            print(f"interrupted at t = {float(sim.time):.6g} s{where}; continue with: axmpm resume {self.out}",
+                  file=sys.stderr)
+            raise
+        except Exception as exc:  # a bug or I/O error: record it, then let it propagate
+            bar.close()
+            with contextlib.suppress(Exception):
+                self.save_checkpoint()
+            self.finish("failed", f"{type(exc).__name__}: {exc}")
+            raise
+        bar.close()
+        self.save_checkpoint()
+        return self.finish("completed")
+
+    def fail(self, message: str) -> dict[str, Any]:
+        self.save_checkpoint()  # the last good output time; the engine's current state is bad
+        return self.finish("failed", message)
+
+
 def run(
     scenario: Scenario | str | Path | dict[str, Any],
     out: str | Path,
@@ -117,14 +345,20 @@ def run(
     overwrite: bool = False,
     progress: bool | None = None,
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
+    *,
+    checkpoints: bool = True,
 ) -> dict[str, Any]:
     """Run a scenario and write its output folder; return the summary dict.
 
     ``threads`` = 0 uses all cores (results do not depend on it). ``progress`` None shows
     a progress bar only when stderr is a terminal. Raises :class:`RunError` for a refused
     output folder or a scenario the engine rejects, :class:`~axmpm.errors.ScenarioError`
-    for an invalid scenario, ``KeyboardInterrupt`` after recording an interrupted run.
-    An engine failure does *not* raise: the summary's ``status`` is ``"failed"``.
+    for an invalid scenario, ``KeyboardInterrupt`` after recording an interrupted run
+    (status ``interrupted``, checkpoint written). An engine failure does *not* raise: the
+    summary's ``status`` is ``"failed"``, its ``message`` the engine's reason.
+
+    ``checkpoints`` False skips restart checkpoints entirely (no ``checkpoint.npz``, no
+    in-memory copy of the engine state at every output time), e.g. for benchmarks.
     """
     scenario = _coerce(scenario)
     out = Path(out)
@@ -132,8 +366,6 @@ def run(
     check_output_folder(out, overwrite)  # refuse early, but clear only once the engine accepted
 
     sim_cfg = scenario.simulation
-    formulation = sim_cfg.formulation
-    started = _time.perf_counter()
     try:
         sim = Simulation(scenario.engine_json(), int(threads))
     except (ValueError, TypeError) as exc:
@@ -143,7 +375,7 @@ def run(
     summary: dict[str, Any] = {
         "program": PROGRAM,
         "status": "running",
-        "formulation": formulation,
+        "formulation": sim_cfg.formulation,
         "shape_function": sim_cfg.shape_function,
         "particles": int(sim.num_particles),
         "nodes": int(sim.num_nodes),
@@ -160,84 +392,86 @@ def run(
         "frames": 0,
         "message": "",
         "stopped_at_rest": False,
+        "checkpoint": None,
+        "resumed": 0,
     }
     write_json(out / SUMMARY, summary)
     write_text(out / SCENARIO, scenario.to_toml())
-    history = HistoryWriter(out / HISTORY)
-    pvd_entries: list[tuple[float, Path]] = []
-    engine_seconds = 0.0
-
-    def record() -> None:
-        frame = FrameData.from_simulation(sim)
-        vtu = write_frame(out, len(pvd_entries), frame, formulation)
-        pvd_entries.append((frame.time, vtu))
-        write_pvd(out, pvd_entries)
-        energies = {k: float(v) for k, v in sim.energies().items()}
-        history.append(
-            {"time": frame.time, "steps": frame.steps, "dt": float(sim.dt),
-             **dict(sorted(energies.items())), "wall_seconds": _time.perf_counter() - started}
-        )
-        summary["energies"] = energies
-
-    def finish(status: str, message: str = "") -> dict[str, Any]:
-        wall = _time.perf_counter() - started
-        steps = int(sim.steps)
-        summary.update(
-            status=status,
-            message=message,
-            steps=steps,
-            end_time=float(sim.time),
-            dt=float(sim.dt),
-            wall_seconds=wall,
-            engine_seconds=engine_seconds,
-            particle_steps_per_second=(steps * int(sim.num_particles) / engine_seconds) if engine_seconds > 0 else 0.0,
-            frames=len(pvd_entries),
-        )
-        try:
-            summary["energies"] = {k: float(v) for k, v in sim.energies().items()}
-        except Exception:  # pragma: no cover - keep the last recorded energies
-            pass
-        write_json(out / SUMMARY, summary)
-        return summary
-
-    end_time, interval = sim_cfg.end_time, sim_cfg.output_interval
-    n_outputs = max(1, math.ceil(end_time / interval - 1e-9))
-    tolerance = 1e-12 * end_time
-    bar = _progress_bar(end_time, progress)
+    driver = _Driver(sim, SimulationFailure, scenario, out, summary, HistoryWriter(out / HISTORY), [],
+                     progress=progress, chunk_steps=chunk_steps, checkpoints=checkpoints)
     try:
-        record()
-        for k in range(1, n_outputs + 1):
-            target = min(k * interval, end_time)
-            while sim.time < target - tolerance:
-                t0 = _time.perf_counter()
-                try:
-                    taken = sim.advance(target, max_steps=int(chunk_steps))
-                except SimulationFailure as exc:
-                    engine_seconds += _time.perf_counter() - t0
-                    bar.close()
-                    return finish("failed", str(exc) or type(exc).__name__)
-                dt_wall = _time.perf_counter() - t0
-                engine_seconds += dt_wall
-                if taken == 0 and sim.time < target - tolerance:
-                    bar.close()
-                    return finish("failed", f"the engine made no progress at t = {sim.time:g} s")
-                bar.update(float(sim.time) - bar.n)
-                if dt_wall > 0:
-                    bar.set_postfix_str(f"{taken / dt_wall:.0f} steps/s", refresh=False)
-            record()
-            if _at_rest(summary["energies"], float(sim.time), sim_cfg):
-                summary["stopped_at_rest"] = True
-                break
+        driver.record()
+        driver.snapshot(0)
     except KeyboardInterrupt:
-        bar.close()
-        finish("interrupted", "interrupted by the user (Ctrl-C)")
+        driver.save_checkpoint()
+        driver.finish("interrupted", "interrupted by the user (Ctrl-C)")
         raise
-    except Exception as exc:  # a bug or I/O error: record it, then let it propagate
-        bar.close()
-        finish("failed", f"{type(exc).__name__}: {exc}")
+    except Exception as exc:
+        driver.finish("failed", f"{type(exc).__name__}: {exc}")
         raise
-    bar.close()
-    return finish("completed")
+    return driver.drive(0)
+
+
+def resume(
+    out: str | Path,
+    threads: int = 0,
+    progress: bool | None = None,
+    chunk_steps: int = DEFAULT_CHUNK_STEPS,
+) -> dict[str, Any]:
+    """Continue the run in folder ``out`` from its checkpoint; return the summary dict.
+
+    Frames and history rows written after the checkpoint are dropped and written again;
+    the result is bit for bit the one of an uninterrupted run (same ``chunk_steps``).
+    A completed run is left alone (its summary is returned). Raises :class:`RunError` when
+    ``out`` is not a run folder or has no usable checkpoint, ``KeyboardInterrupt`` as
+    :func:`run` does.
+    """
+    out = Path(out)
+    if not out.is_dir():
+        raise RunError(f"{out} is not a folder")
+    if not is_run_folder(out):
+        raise RunError(f"{out} is not an axmpm run folder (no readable {SUMMARY})")
+    import json
+
+    summary: dict[str, Any] = json.loads((out / SUMMARY).read_text())
+    if summary.get("status") == "completed":
+        return summary
+    try:
+        ckpt = read_checkpoint(out)
+    except FileNotFoundError:
+        raise RunError(f"{out} has no checkpoint to resume from (the run stopped before its first "
+                       "output time, or checkpoints were off); run it again instead") from None
+    except ValueError as exc:
+        raise RunError(str(exc)) from None
+    scenario = Scenario.from_toml(out / SCENARIO)
+    Simulation, SimulationFailure = _engine_class()
+    try:
+        sim = Simulation.from_bytes(ckpt.engine, int(threads))
+    except (ValueError, TypeError, RuntimeError) as exc:
+        raise RunError(f"the checkpoint in {out} cannot be restored: {exc}") from None
+    if float(sim.time) != ckpt.time or int(sim.steps) != ckpt.steps:
+        raise RunError(f"the checkpoint in {out} is inconsistent (engine t = {sim.time}, recorded {ckpt.time})")
+
+    remove_temporary_files(out)
+    remove_frames_from(out, ckpt.frames)
+    pvd_entries = [(t, out / FRAMES / f"{frame_stem(i)}.vtu") for i, t in enumerate(ckpt.frame_times)]
+    missing = [str(p) for _, p in pvd_entries if not p.exists()]
+    if missing:
+        raise RunError(f"{out} lacks frames written before its checkpoint: {', '.join(missing[:3])}")
+    write_pvd(out, pvd_entries)
+    history = HistoryWriter.resume(out / HISTORY, ckpt.time)
+
+    summary.update(status="running", message="", resumed=int(summary.get("resumed", 0)) + 1,
+                   threads=int(getattr(sim, "threads", threads)), energies=dict(ckpt.energies),
+                   stopped_at_rest=False, checkpoint=ckpt.meta())
+    summary.pop("last_good_time", None)
+    summary.pop("last_good_frame", None)
+    write_json(out / SUMMARY, summary)
+    driver = _Driver(sim, SimulationFailure, scenario, out, summary, history, pvd_entries,
+                     progress=progress, chunk_steps=chunk_steps, checkpoints=True,
+                     wall_offset=ckpt.wall_seconds, engine_seconds=ckpt.engine_seconds)
+    driver.last_good = ckpt
+    return driver.drive(ckpt.output_index)
 
 
 def default_threads() -> int:

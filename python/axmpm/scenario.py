@@ -6,13 +6,16 @@ sections ``simulation``, ``grid``, ``materials`` (name → material, discriminat
 degrees, stresses tension positive.
 
 Validation happens in two phases: every field is checked at once (types, ranges, unknown
-keys with a "did you mean" hint); when all fields are valid the cross checks run (grid
-lines, bodies inside the grid, material references, axisymmetric axis), again reporting
-every problem at once. Either phase raises :class:`~axmpm.errors.ScenarioError`.
+keys with a "did you mean" hint), then the cross checks run (grid lines, bodies inside the
+grid and not overlapping, material references, axisymmetric axis, sizes). When some fields
+are invalid the cross checks still run on every part that validated on its own (a section,
+a material, a body, a wall), so ``axmpm check`` reports all problems at once. Either phase
+raises :class:`~axmpm.errors.ScenarioError`; see docs/robustness.md.
 """
 
 from __future__ import annotations
 
+import copy
 import difflib
 import json
 import math
@@ -33,6 +36,7 @@ from pydantic import (
     BeforeValidator,
     ConfigDict,
     Field,
+    TypeAdapter,
     ValidationError,
     model_validator,
 )
@@ -57,6 +61,11 @@ __all__ = [
 
 #: Tolerance, as a fraction of a cell, for "on a grid line" checks.
 GRID_TOLERANCE = 1e-6
+
+#: Sanity limits: a dense grid with more cells than this along one axis, or a run with more
+#: output frames than this, is certainly a unit mistake (and would overflow or exhaust memory).
+MAX_CELLS_PER_AXIS = 10_000_000
+MAX_OUTPUTS = 1_000_000
 
 
 # --------------------------------------------------------------------------- range types
@@ -139,6 +148,11 @@ class Simulation(_Section):
     stop_at_rest_after: NonNegative = Field(
         0.0, description="s: the at-rest test is applied only from this time on"
     )
+    checkpoint_interval: Positive | None = Field(  # type: ignore[valid-type]
+        None,
+        description="s: write a restart checkpoint this often (rounded up to a whole number of "
+        "output intervals); absent = only when the run stops (completed, failed, interrupted)",
+    )
 
 
 class Grid(_Section):
@@ -211,6 +225,12 @@ class Body(_Section):
         None,
         description="lateral earth pressure ratio; resolved default nu/(1-nu), "
         "or 1 - sin(phi) for mohr_coulomb",
+    )
+    allow_overlap: bool = Field(
+        False,
+        strict=True,
+        description="true: this body may overlap other bodies (particles are then superposed, "
+        "adding mass); false: an overlap with another body that does not allow it is an error",
     )
 
 
@@ -296,7 +316,12 @@ class Scenario(_Section):
         try:
             return cls.model_validate(data)
         except ValidationError as exc:
-            raise ScenarioError(_convert_errors(exc), source) from None
+            errors = _convert_errors(exc)
+            try:
+                errors = _merge_errors(errors, _partial_cross_check(data))
+            except Exception:  # pragma: no cover - the field errors alone are still reported
+                pass
+            raise ScenarioError(errors, source) from None
         except ScenarioError as exc:
             exc.source = source
             raise
@@ -353,83 +378,202 @@ def schema_json(indent: int = 2) -> str:
 
 def _on_grid_line(value: float, origin: float, h: float) -> bool:
     n = (value - origin) / h
-    return abs(n - round(n)) <= GRID_TOLERANCE
+    return math.isfinite(n) and abs(n - round(n)) <= GRID_TOLERANCE
 
 
 def _cross_check(s: Scenario) -> list[tuple[str, str]]:
-    errors: list[tuple[str, str]] = []
-    grid, h = s.grid, s.grid.cell_size
-    lo = grid.origin
-    hi = (grid.origin[0] + grid.extent[0], grid.origin[1] + grid.extent[1])
-    tol = GRID_TOLERANCE * h
+    return _cross_check_parts(
+        s.simulation, s.grid, dict(s.materials), list(s.materials), list(s.bodies), s.boundaries, list(s.walls)
+    )
 
+
+def _grid_cells_ok(grid: Grid, errors: list[tuple[str, str]]) -> bool:
+    """Check the grid's extent against its cell size; False when the grid is unusable."""
+    ok = True
+    h = grid.cell_size
     for i, length in enumerate(grid.extent):
         n = length / h
-        if n < 1.0 - 1e-6:
+        if not math.isfinite(n) or n > MAX_CELLS_PER_AXIS:
+            errors.append((f"grid.extent.{i}", f"must be at most {MAX_CELLS_PER_AXIS:,} cells of {_fmt(h)} m "
+                           f"(got {_fmt(length)} m = {n:.6g} cells)"))
+            ok = False
+        elif n < 1.0 - 1e-6:
             errors.append((f"grid.extent.{i}", f"must be at least one cell of {_fmt(h)} m (got {_fmt(length)} m)"))
         elif abs(n - round(n)) > 1e-6 * max(1.0, n):
             errors.append(
                 (f"grid.extent.{i}", f"must be a whole number of cells of {_fmt(h)} m "
                  f"(got {_fmt(length)} m = {n:.6g} cells)")
             )
+    if not all(math.isfinite(grid.origin[i] + grid.extent[i]) for i in (0, 1)):
+        errors.append(("grid.extent", "origin + extent overflows"))
+        ok = False
+    return ok
 
-    if not s.materials:
-        errors.append(("materials", "at least one material is required"))
-    for name, mat in s.materials.items():
-        if isinstance(mat, MohrCoulomb) and mat.dilation_angle > mat.friction_angle:
-            errors.append(
-                (f"materials.{name}.dilation_angle",
-                 f"must be <= friction_angle = {_fmt(mat.friction_angle)} "
-                 f"(got {_fmt(mat.dilation_angle)})")
-            )
 
-    if not s.bodies:
-        errors.append(("bodies", "at least one body is required"))
-    seen_names: set[str] = set()
-    for i, body in enumerate(s.bodies):
-        key = f"bodies.{i}"
-        if body.material not in s.materials:
-            errors.append((f"{key}.material", f"unknown material {body.material!r}"
-                           + _did_you_mean(body.material, s.materials)))
-        if body.name is not None:
-            if body.name in seen_names:
-                errors.append((f"{key}.name", f"duplicate body name {body.name!r}"))
-            seen_names.add(body.name)
-        for axis in (0, 1):
-            bmin, bmax = body.min[axis], body.max[axis]
-            if not bmin < bmax:
-                errors.append((f"{key}.max.{axis}",
-                               f"must be > min.{axis} = {_fmt(bmin)} (got {_fmt(bmax)})"))
-            for which, value in (("min", bmin), ("max", bmax)):
-                if value < lo[axis] - tol or value > hi[axis] + tol:
-                    errors.append((f"{key}.{which}.{axis}",
-                                   f"must be inside the grid [{_fmt(lo[axis])}, {_fmt(hi[axis])}] "
-                                   f"(got {_fmt(value)})"))
-                elif not _on_grid_line(value, lo[axis], h):
-                    errors.append((f"{key}.{which}.{axis}",
-                                   f"must lie on a grid line (multiples of {_fmt(h)} m from the "
-                                   f"origin {_fmt(lo[axis])}) (got {_fmt(value)})"))
+def _cross_check_parts(
+    sim: Simulation | None,
+    grid: Grid | None,
+    materials: dict[str, Any] | None,
+    material_names: list[str] | None,
+    bodies: list[Body | None] | None,
+    boundaries: Boundaries | None,
+    walls: list[Wall | None] | None,
+) -> list[tuple[str, str]]:
+    """Cross checks between sections. ``None`` stands for a part that failed its own field
+    checks (or a whole section that did): the checks needing it are skipped, so that this can
+    run next to the field errors. ``materials`` maps names to validated materials (``None`` if
+    invalid); ``material_names`` are all names (None if the section itself is invalid)."""
+    errors: list[tuple[str, str]] = []
 
-    if s.simulation.formulation == "axisymmetric":
-        if abs(grid.origin[0]) > 1e-12 * h:  # the engine's own tolerance
+    if sim is not None:
+        n_out = sim.end_time / sim.output_interval
+        if not math.isfinite(n_out) or n_out > MAX_OUTPUTS:
+            errors.append(("simulation.output_interval",
+                           f"end_time / output_interval must be at most {MAX_OUTPUTS:,} output frames "
+                           f"(got {n_out:.6g})"))
+
+    grid_ok = grid is not None and _grid_cells_ok(grid, errors)
+    if grid is not None:
+        h = grid.cell_size
+        lo = grid.origin
+        hi = (grid.origin[0] + grid.extent[0], grid.origin[1] + grid.extent[1])
+        tol = GRID_TOLERANCE * h
+
+    if materials is not None and material_names is not None:
+        if not material_names:
+            errors.append(("materials", "at least one material is required"))
+        for name, mat in materials.items():
+            if isinstance(mat, MohrCoulomb) and mat.dilation_angle > mat.friction_angle:
+                errors.append(
+                    (f"materials.{name}.dilation_angle",
+                     f"must be <= friction_angle = {_fmt(mat.friction_angle)} "
+                     f"(got {_fmt(mat.dilation_angle)})")
+                )
+
+    if bodies is not None:
+        if not bodies:
+            errors.append(("bodies", "at least one body is required"))
+        seen_names: set[str] = set()
+        for i, body in enumerate(bodies):
+            if body is None:
+                continue
+            key = f"bodies.{i}"
+            if material_names is not None and body.material not in material_names:
+                errors.append((f"{key}.material", f"unknown material {body.material!r}"
+                               + _did_you_mean(body.material, material_names)))
+            if body.name is not None:
+                if body.name in seen_names:
+                    errors.append((f"{key}.name", f"duplicate body name {body.name!r}"))
+                seen_names.add(body.name)
+            for axis in (0, 1):
+                bmin, bmax = body.min[axis], body.max[axis]
+                if not bmin < bmax:
+                    errors.append((f"{key}.max.{axis}",
+                                   f"must be > min.{axis} = {_fmt(bmin)} (got {_fmt(bmax)})"))
+                if not grid_ok:
+                    continue
+                for which, value in (("min", bmin), ("max", bmax)):
+                    if value < lo[axis] - tol or value > hi[axis] + tol:
+                        errors.append((f"{key}.{which}.{axis}",
+                                       f"must be inside the grid [{_fmt(lo[axis])}, {_fmt(hi[axis])}] "
+                                       f"(got {_fmt(value)})"))
+                    elif not _on_grid_line(value, lo[axis], h):
+                        errors.append((f"{key}.{which}.{axis}",
+                                       f"must lie on a grid line (multiples of {_fmt(h)} m from the "
+                                       f"origin {_fmt(lo[axis])}) (got {_fmt(value)})"))
+        errors.extend(_overlaps(bodies, grid.cell_size if grid is not None else None))
+
+    if sim is not None and sim.formulation == "axisymmetric":
+        if grid is not None and abs(grid.origin[0]) > 1e-12 * grid.cell_size:  # the engine's own tolerance
             errors.append(("grid.origin.0", "axisymmetric grids start on the axis: must be 0 "
                            f"(got {_fmt(grid.origin[0])})"))
-        if s.boundaries.left.condition != "roller":
+        if boundaries is not None and boundaries.left.condition != "roller":
             errors.append(("boundaries.left",
                            "in axisymmetric runs the left face is the axis, which is always a "
-                           f'roller: must be "roller" (got "{s.boundaries.left.condition}")'))
+                           f'roller: must be "roller" (got "{boundaries.left.condition}")'))
 
-    for i, wall in enumerate(s.walls):
-        axis = 0 if wall.axis == "x" else 1
-        if wall.position < lo[axis] - tol or wall.position > hi[axis] + tol:
-            errors.append((f"walls.{i}.position",
-                           f"must be inside the grid [{_fmt(lo[axis])}, {_fmt(hi[axis])}] "
-                           f"(got {_fmt(wall.position)})"))
-        elif not _on_grid_line(wall.position, lo[axis], h):
-            errors.append((f"walls.{i}.position",
-                           f"must lie on a grid line (multiples of {_fmt(h)} m from the origin "
-                           f"{_fmt(lo[axis])}) (got {_fmt(wall.position)})"))
+    if grid_ok and walls is not None:
+        for i, wall in enumerate(walls):
+            if wall is None:
+                continue
+            axis = 0 if wall.axis == "x" else 1
+            if wall.position < lo[axis] - tol or wall.position > hi[axis] + tol:
+                errors.append((f"walls.{i}.position",
+                               f"must be inside the grid [{_fmt(lo[axis])}, {_fmt(hi[axis])}] "
+                               f"(got {_fmt(wall.position)})"))
+            elif not _on_grid_line(wall.position, lo[axis], h):
+                errors.append((f"walls.{i}.position",
+                               f"must lie on a grid line (multiples of {_fmt(h)} m from the origin "
+                               f"{_fmt(lo[axis])}) (got {_fmt(wall.position)})"))
     return errors
+
+
+def _overlaps(bodies: list[Body | None], h: float | None) -> list[tuple[str, str]]:
+    """Pairs of bodies whose rectangles share an area (touching edges are fine), unless one
+    of the two has ``allow_overlap = true``. Reported on the later body."""
+    errors: list[tuple[str, str]] = []
+    valid = [(i, b) for i, b in enumerate(bodies)
+             if b is not None and b.min[0] < b.max[0] and b.min[1] < b.max[1]]
+    for jj, (j, b) in enumerate(valid):
+        for i, a in valid[:jj]:
+            if a.allow_overlap or b.allow_overlap:
+                continue
+            x0, x1 = max(a.min[0], b.min[0]), min(a.max[0], b.max[0])
+            y0, y1 = max(a.min[1], b.min[1]), min(a.max[1], b.max[1])
+            tol = GRID_TOLERANCE * h if h is not None else 0.0
+            if x1 - x0 > tol and y1 - y0 > tol:
+                other = f"bodies.{i}" + (f" ({a.name!r})" if a.name else "")
+                errors.append((f"bodies.{j}",
+                               f"overlaps {other} over [{_fmt(x0)}, {_fmt(x1)}] x [{_fmt(y0)}, {_fmt(y1)}]; "
+                               "overlapping particles add their mass. Set allow_overlap = true on "
+                               "one of the two bodies if this is intended"))
+                break
+    return errors
+
+
+def _validate_part(adapter: Any, value: Any) -> Any:
+    """``adapter`` (a model class or TypeAdapter) applied to ``value``, or None if invalid."""
+    try:
+        if isinstance(adapter, TypeAdapter):
+            return adapter.validate_python(value)
+        return adapter.model_validate(value)
+    except Exception:  # ValidationError, ScenarioError, anything odd in fuzzed input
+        return None
+
+
+_MATERIAL_ADAPTER: TypeAdapter[Any] | None = None
+
+
+def _partial_cross_check(data: dict[str, Any]) -> list[tuple[str, str]]:
+    """The cross checks on the parts of a scenario that are valid on their own."""
+    global _MATERIAL_ADAPTER
+    if _MATERIAL_ADAPTER is None:
+        _MATERIAL_ADAPTER = TypeAdapter(Material)
+    sim = _validate_part(Simulation, data.get("simulation"))
+    grid = _validate_part(Grid, data.get("grid"))
+    raw_materials = data.get("materials")
+    materials: dict[str, Any] | None = None
+    names: list[str] | None = None
+    if isinstance(raw_materials, dict):
+        names = [str(n) for n in raw_materials]
+        materials = {str(n): _validate_part(_MATERIAL_ADAPTER, m) for n, m in raw_materials.items()}
+    raw_bodies = data.get("bodies")
+    bodies = [_validate_part(Body, b) for b in raw_bodies] if isinstance(raw_bodies, list) else None
+    boundaries = _validate_part(Boundaries, data.get("boundaries", {}))
+    raw_walls = data.get("walls", [])
+    walls = [_validate_part(Wall, w) for w in raw_walls] if isinstance(raw_walls, list) else None
+    return _cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls)
+
+
+def _merge_errors(field: list[tuple[str, str]], cross: list[tuple[str, str]]) -> list[tuple[str, str]]:
+    """Field errors, then the cross errors on keys that have no field error (nor a parent
+    or child key with one)."""
+    keys = [k for k, _ in field]
+
+    def related(key: str) -> bool:
+        return any(key == k or key.startswith(k + ".") or k.startswith(key + ".") for k in keys)
+
+    return field + [(k, m) for k, m in cross if not related(k)]
 
 
 def _resolve_defaults(s: Scenario) -> None:
@@ -552,6 +696,8 @@ def read_toml(path: str | Path) -> dict[str, Any]:
         raise ScenarioError([("", f"{p}: not UTF-8 text ({exc.reason})")], str(p)) from None
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError([("", f"{p}: invalid TOML: {exc}")], str(p)) from None
+    except RecursionError:
+        raise ScenarioError([("", f"{p}: invalid TOML: arrays or tables nested too deeply")], str(p)) from None
 
 
 def parse_value(text: str) -> Any:
@@ -570,7 +716,7 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
     index equal to the array length appends a new table. Missing tables are created.
     Problems are collected and raised together as :class:`ScenarioError`.
     """
-    result = json.loads(json.dumps(data))  # deep copy of plain TOML data
+    result = copy.deepcopy(data)  # plain TOML data (may hold dates, which JSON cannot)
     errors: list[tuple[str, str]] = []
     for item in overrides:
         key, sep, raw = item.partition("=")

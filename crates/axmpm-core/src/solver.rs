@@ -128,7 +128,7 @@ impl Failure {
                 format!("particle {particle}: position, velocity or stress is not finite (NaN or infinite)")
             }
             Failure::LeftGrid { particle, position } => format!(
-                "particle {particle} left the grid at ({:.6e}, {:.6e}); enlarge grid.extent",
+                "particle {particle} left the grid at ({:.6e}, {:.6e}): material flowed out or separated (enlarge grid.extent if the motion is real)",
                 position[0], position[1]
             ),
             Failure::InvertedJacobian { particle, jacobian } => {

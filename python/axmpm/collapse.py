@@ -1,0 +1,457 @@
+"""Granular column collapse: scenario builder and deposit analysis.
+
+The set-up (PHYSICS.md §6, docs/validation-sources.md): a cylinder of sand of radius R_i
+and height H_i = a R_i stands on a rough base inside a rigid cylinder wall; the wall is
+removed and the column collapses into a deposit of runout radius R∞ and central height
+H∞. Experiments (Lube et al. 2004, Lajeunesse et al. 2004) find the deposit depends on
+a = H_i/R_i alone.
+
+Analysis rules (documented in docs/validation.md):
+
+* **Profile** h(r): the particles are binned radially in bins of one cell; the height of
+  a bin is its *solid thickness*: the particles' initial volumes (mass / initial density)
+  in the bin divided by the bin's area (annulus area per radian in axisymmetric runs,
+  width in plane strain). Exact for a block, insensitive to a single particle sticking
+  out, and not inflated by the volume the Mohr–Coulomb apex return lets flowing material
+  gain (docs/validation.md). ``method="max"``: highest particle + half a spacing per bin.
+* **Runout R∞**: bins, from the axis outwards, are *occupied* when their solid thickness
+  is at least a quarter of a particle layer (0.25 s, s = cell / particles_per_cell: about
+  one particle in a one-cell bin at 2×2 particles per cell). The continuous deposit is the
+  run of occupied bins that starts at the axis; R∞ is its outermost particle plus half a
+  spacing. Particles beyond the first empty bin (strays, thrown grains) are ignored. The
+  radius that encloses 99 % of the mass is reported alongside (``runout_radius_99``).
+* **Final height H∞**: the deposit surface at the axis: a robust (Theil–Sen) line through
+  the solid-thickness profile within r < max(R_i/4, 5 cells), evaluated at r = 0. A flat
+  top gives its height, a cone its apex; thin spikes and cell-scale striations (seen at
+  the axis for a = 5.4) carry little volume and average out. The mass-weighted 95th
+  percentile of heights in r < R_i/4 is reported alongside (``final_height_p95``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "ColumnGeometry",
+    "geometry_from_scenario",
+    "surface_profile",
+    "runout_radius",
+    "final_height",
+    "column_tops",
+    "height_percentile",
+    "mass_radius",
+    "particle_metrics",
+    "deposit_metrics",
+    "profiles",
+    "collapse_scenario",
+    "DEFAULTS",
+]
+
+#: Fraction of a particle layer a bin must hold to count as occupied (runout rule).
+OCCUPIED_LAYERS = 0.25
+#: Central region for H∞, as a fraction of R_i.
+CENTRAL_FRACTION = 0.25
+#: Mass-weighted percentile of particle heights used for H∞.
+HEIGHT_PERCENTILE = 95.0
+
+
+@dataclass(frozen=True)
+class ColumnGeometry:
+    """The initial column and how it was discretised."""
+
+    radius: float  # R_i, m (half-width in plane strain)
+    height: float  # H_i, m
+    axis: float  # r (x) of the axis / symmetry plane, m
+    base: float  # z (y) of the base, m
+    cell_size: float  # m
+    particles_per_cell: int
+    formulation: str
+
+    @property
+    def aspect_ratio(self) -> float:
+        return self.height / self.radius
+
+    @property
+    def spacing(self) -> float:
+        """Initial particle spacing s."""
+        return self.cell_size / self.particles_per_cell
+
+    @property
+    def cells_per_radius(self) -> float:
+        return self.radius / self.cell_size
+
+
+def geometry_from_scenario(scenario: Any) -> ColumnGeometry:
+    """The column of a scenario: its first body, standing on the axis / symmetry plane."""
+    body = scenario.bodies[0]
+    return ColumnGeometry(
+        radius=float(body.max[0] - body.min[0]),
+        height=float(body.max[1] - body.min[1]),
+        axis=float(body.min[0]),
+        base=float(body.min[1]),
+        cell_size=float(scenario.grid.cell_size),
+        particles_per_cell=int(body.particles_per_cell),
+        formulation=str(scenario.simulation.formulation),
+    )
+
+
+# --------------------------------------------------------------------------- particle analysis
+
+
+def _bins(geom: ColumnGeometry, r_max: float, width: float | None = None) -> NDArray[np.float64]:
+    w = geom.cell_size if width is None else width
+    n = max(1, int(math.ceil(r_max / w - 1e-9)))
+    return np.arange(n + 1) * w
+
+
+def _bin_area(edges: NDArray[np.float64], formulation: str) -> NDArray[np.float64]:
+    """Bin area in the units of particle volumes: per radian (axisymmetric) or width."""
+    if formulation == "axisymmetric":
+        return 0.5 * (edges[1:] ** 2 - edges[:-1] ** 2)
+    return np.diff(edges)
+
+
+def surface_profile(
+    x: NDArray[np.float64],
+    volume0: NDArray[np.float64] | None,
+    geom: ColumnGeometry,
+    r_max: float | None = None,
+    method: str = "volume",
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Free-surface profile: (bin centres r, heights h) relative to axis and base.
+
+    ``method="volume"``: solid thickness, the particles' *initial* volume (mass / initial
+    density) in the bin divided by the bin area — the height the material in the bin
+    would have at its initial density. Current volumes are not used: near the axis of
+    axisymmetric collapses J = V/V0 reaches 1.5–4.6 although ψ = 0 (docs/validation.md).
+    ``method="max"``: highest particle in the bin plus half a particle spacing (0 if empty).
+    """
+    r = x[:, 0] - geom.axis
+    z = x[:, 1] - geom.base
+    if r_max is None:
+        r_max = max(float(r.max(initial=0.0)) + geom.cell_size, geom.radius)
+    edges = _bins(geom, r_max)
+    idx = np.clip(np.searchsorted(edges, r, side="right") - 1, 0, len(edges) - 2)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    if method == "volume":
+        if volume0 is None:
+            raise ValueError("method='volume' needs the particles' initial volumes")
+        vol = np.bincount(idx, weights=volume0, minlength=len(centres))
+        return centres, vol / _bin_area(edges, geom.formulation)
+    if method == "max":
+        h = np.full(len(centres), -np.inf)
+        np.maximum.at(h, idx, z + 0.5 * geom.spacing)
+        h[~np.isfinite(h)] = 0.0
+        return centres, np.maximum(h, 0.0)
+    raise ValueError(f"unknown profile method {method!r} (volume or max)")
+
+
+def runout_radius(
+    x: NDArray[np.float64], volume0: NDArray[np.float64], geom: ColumnGeometry
+) -> float:
+    """R∞: outer edge of the continuous deposit (see the module docstring)."""
+    r = x[:, 0] - geom.axis
+    centres, h = surface_profile(x, volume0, geom)
+    occupied = h >= OCCUPIED_LAYERS * geom.spacing
+    empty = np.flatnonzero(~occupied)
+    n_cont = int(empty[0]) if empty.size else len(occupied)
+    if n_cont == 0:
+        return 0.0
+    edge = n_cont * geom.cell_size
+    inside = r < edge
+    return float(r[inside].max() + 0.5 * geom.spacing)
+
+
+def mass_radius(x: NDArray[np.float64], mass: NDArray[np.float64], geom: ColumnGeometry,
+                fraction: float = 0.99) -> float:
+    """Radius enclosing ``fraction`` of the mass (plus half a particle spacing)."""
+    r = x[:, 0] - geom.axis
+    order = np.argsort(r)
+    cum = np.cumsum(mass[order])
+    k = int(np.searchsorted(cum, fraction * cum[-1]))
+    return float(r[order][min(k, len(r) - 1)] + 0.5 * geom.spacing)
+
+
+def column_tops(x: NDArray[np.float64], geom: ColumnGeometry,
+                r_limit: float | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Top of the particle column in radial bins one particle spacing wide: (bin centre r,
+    highest particle z + half a spacing), non-empty bins with r < ``r_limit`` only."""
+    r = x[:, 0] - geom.axis
+    z = x[:, 1] - geom.base
+    r_limit = CENTRAL_FRACTION * geom.radius if r_limit is None else r_limit
+    s = geom.spacing
+    n = max(1, int(math.ceil(r_limit / s - 1e-9)))
+    sel = r < n * s
+    idx = np.clip((r[sel] / s).astype(int), 0, n - 1)
+    top = np.full(n, -np.inf)
+    np.maximum.at(top, idx, z[sel])
+    ok = np.isfinite(top)
+    centres = (np.arange(n) + 0.5) * s
+    return centres[ok], top[ok] + 0.5 * s
+
+
+def _theil_sen(x: NDArray[np.float64], y: NDArray[np.float64]) -> tuple[float, float]:
+    """Median-of-slopes line (robust to ~29 % outliers): (intercept, slope)."""
+    i, j = np.triu_indices(len(x), k=1)
+    slope = float(np.median((y[j] - y[i]) / (x[j] - x[i])))
+    return float(np.median(y - slope * x)), slope
+
+
+def final_height(x: NDArray[np.float64], volume0: NDArray[np.float64],
+                 geom: ColumnGeometry) -> float:
+    """H∞: the deposit surface at the axis.
+
+    The solid-thickness profile (:func:`surface_profile`, bins of one cell) within
+    r < max(R_i/4, 3 cells) is fitted with a robust Theil–Sen line against each bin's
+    area centroid (so that a linear surface is fitted exactly in axisymmetric bins) and
+    evaluated at r = 0. A flat top gives its height, a cone its apex; a thin spike at the
+    axis carries little volume, and cell-scale striations average out.
+    """
+    w = geom.cell_size
+    r_lim = max(CENTRAL_FRACTION * geom.radius, 5 * w)
+    n = int(math.ceil(r_lim / w - 1e-9))
+    edges = np.arange(n + 1) * w
+    r = x[:, 0] - geom.axis
+    idx = np.searchsorted(edges, r, side="right") - 1
+    ok = (idx >= 0) & (idx < n)
+    vol = np.bincount(idx[ok], weights=volume0[ok], minlength=n)
+    thick = vol / _bin_area(edges, geom.formulation)
+    if geom.formulation == "axisymmetric":
+        rc = (2.0 / 3.0) * (edges[1:] ** 3 - edges[:-1] ** 3) / (edges[1:] ** 2 - edges[:-1] ** 2)
+    else:
+        rc = 0.5 * (edges[1:] + edges[:-1])
+    intercept, _ = _theil_sen(rc, thick)
+    return float(intercept)
+
+
+def height_percentile(x: NDArray[np.float64], mass: NDArray[np.float64], geom: ColumnGeometry,
+                      percentile: float = HEIGHT_PERCENTILE) -> float:
+    """Mass-weighted percentile of particle heights within r < R_i/4, + half a spacing
+    (reported alongside H∞; biased low by up to one spacing when the top layer holds
+    less than 100 − percentile % of the central mass)."""
+    r = x[:, 0] - geom.axis
+    z = x[:, 1] - geom.base
+    sel = r < CENTRAL_FRACTION * geom.radius
+    if not np.any(sel):
+        return 0.0
+    zs, ms = z[sel], mass[sel]
+    order = np.argsort(zs)
+    cum = np.cumsum(ms[order])
+    k = int(np.searchsorted(cum, percentile / 100.0 * cum[-1]))
+    return float(zs[order][min(k, len(zs) - 1)] + 0.5 * geom.spacing)
+
+
+def particle_metrics(
+    x: NDArray[np.float64],
+    volume0: NDArray[np.float64],
+    mass: NDArray[np.float64],
+    geom: ColumnGeometry,
+) -> dict[str, float]:
+    """Deposit metrics of one particle set (see :func:`deposit_metrics`); ``volume0`` are
+    the particles' initial volumes (mass / initial density)."""
+    R_i, H_i = geom.radius, geom.height
+    R_inf = runout_radius(x, volume0, geom)
+    H_inf = final_height(x, volume0, geom)
+    return {
+        "initial_radius": R_i,
+        "initial_height": H_i,
+        "aspect_ratio": H_i / R_i,
+        "runout_radius": R_inf,
+        "final_height": H_inf,
+        "runout_normalised": (R_inf - R_i) / R_i,
+        "final_height_normalised": H_inf / R_i,
+        "runout_radius_99": mass_radius(x, mass, geom, 0.99),
+        "final_height_p95": height_percentile(x, mass, geom),
+        "max_particle_radius": float((x[:, 0] - geom.axis).max() + 0.5 * geom.spacing),
+        "max_particle_height": float((x[:, 1] - geom.base).max() + 0.5 * geom.spacing),
+        "cell_size": geom.cell_size,
+        "cells_per_radius": geom.cells_per_radius,
+    }
+
+
+def deposit_metrics(run_dir: str | Path) -> dict[str, Any]:
+    """Deposit metrics from the last frame of a column-collapse run.
+
+    Keys: ``initial_radius``, ``initial_height``, ``aspect_ratio``, ``runout_radius``,
+    ``final_height`` (m), ``runout_normalised`` = (R∞ − R_i)/R_i,
+    ``final_height_normalised`` = H∞/R_i, ``time`` (of the frame used), plus
+    ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
+    ``cells_per_radius``, ``frame``, ``status``. Geometry comes from the scenario's first body.
+    """
+    from .output import load_run
+
+    run = load_run(run_dir)
+    if not run.frames:
+        raise ValueError(f"{run_dir}: the run has no frames")
+    geom = geometry_from_scenario(run.scenario)
+    last = run.frames[-1]
+    out: dict[str, Any] = particle_metrics(last.x, last.volume0, last.mass, geom)
+    out["time"] = float(last.time)
+    out["frame"] = len(run.frames) - 1
+    out["status"] = run.summary.get("status")
+    out["formulation"] = geom.formulation
+    return out
+
+
+def profiles(run_dir: str | Path, interval: float | None = None,
+             method: str = "volume") -> list[dict[str, Any]]:
+    """Free-surface profiles of every frame (or frames ~``interval`` apart):
+    ``[{"time", "r", "h"}]`` in metres, relative to the axis and the base."""
+    from .output import load_run
+
+    run = load_run(run_dir)
+    geom = geometry_from_scenario(run.scenario)
+    r_max = max(float(np.max(f.x[:, 0])) for f in (run.frames[0], run.frames[-1])) - geom.axis
+    r_max = max(r_max + geom.cell_size, geom.radius)
+    out = []
+    next_t = -math.inf
+    for f in run.frames:
+        if interval is not None and f.time < next_t - 1e-9:
+            continue
+        r_max_f = max(r_max, float(f.x[:, 0].max()) - geom.axis + geom.cell_size)
+        r, h = surface_profile(f.x, f.volume0, geom, r_max=r_max_f, method=method)
+        out.append({"time": float(f.time), "r": r, "h": h})
+        if interval is not None:
+            next_t = f.time + interval
+    return out
+
+
+# --------------------------------------------------------------------------- scenario builder
+
+#: Default parameters of the collapse scenarios (docs/validation.md explains each).
+DEFAULTS: dict[str, Any] = {
+    "radius": 0.03,  # m, R_i; the experiments' own radius is unconfirmed (validation-sources §2)
+    "cell_size": 0.002,  # m, as in the seed paper
+    "particles_per_cell": 2,  # per direction, as in the seed paper
+    "density": 1550.0,  # kg/m³, glass-bead bulk density ≈ 1500–1600 (PHYSICS.md §6)
+    "youngs_modulus": 1.0e6,  # Pa
+    "poisson_ratio": 0.3,
+    "friction_angle": 25.0,  # degrees
+    "dilation_angle": 0.0,  # degrees, as in the seed paper
+    "cohesion": 0.0,
+    "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
+    "shape_function": "cpgimp",
+    "update_scheme": "musl",
+    "flip_fraction": 0.99,
+    "release_time": 0.0,  # s, wall removal; 0 = from the geostatic state at t = 0+
+    "end_time": 1.0,  # s
+    "output_interval": 0.02,  # s, the seed paper's profile interval
+    "stop_at_rest": 1e-5,  # kinetic energy / work of gravity
+    "rest_check_after": 0.1,  # s after the release
+    "formulation": "axisymmetric",
+}
+
+
+def _law_runout_guess(a: float) -> float:
+    """Lube et al. 2004 runout (R∞−R_i)/R_i, to size the grid."""
+    return 1.24 * a if a < 1.7 else 1.6 * math.sqrt(a)
+
+
+def collapse_scenario(
+    aspect_ratio: float,
+    radius: float = DEFAULTS["radius"],
+    cell_size: float = DEFAULTS["cell_size"],
+    *,
+    height: float | None = None,
+    formulation: str = DEFAULTS["formulation"],
+    particles_per_cell: int = DEFAULTS["particles_per_cell"],
+    density: float = DEFAULTS["density"],
+    youngs_modulus: float = DEFAULTS["youngs_modulus"],
+    poisson_ratio: float = DEFAULTS["poisson_ratio"],
+    friction_angle: float = DEFAULTS["friction_angle"],
+    dilation_angle: float = DEFAULTS["dilation_angle"],
+    cohesion: float = DEFAULTS["cohesion"],
+    base_friction: float | None = DEFAULTS["base_friction"],
+    shape_function: str = DEFAULTS["shape_function"],
+    update_scheme: str = DEFAULTS["update_scheme"],
+    flip_fraction: float = DEFAULTS["flip_fraction"],
+    release_time: float = DEFAULTS["release_time"],
+    end_time: float = DEFAULTS["end_time"],
+    output_interval: float = DEFAULTS["output_interval"],
+    stop_at_rest: float = DEFAULTS["stop_at_rest"],
+    rest_check_after: float = DEFAULTS["rest_check_after"],
+    domain_radius: float | None = None,
+    as_dict: bool = False,
+) -> Any:
+    """A column-collapse scenario (a :class:`~axmpm.scenario.Scenario`, or its plain dict).
+
+    The column [0, R_i] × [0, H_i] starts from the geostatic stress (k0 = 1 − sin φ) inside a
+    roller wall at r = R_i that is removed at ``release_time``. Bodies must lie on grid
+    lines, so R_i and H_i = a R_i are rounded to whole cells (``height`` overrides H_i);
+    the scenario's actual aspect ratio is H_i/R_i of its body (:func:`geometry_from_scenario`).
+    """
+    from .scenario import Scenario
+
+    h = float(cell_size)
+    n_r = max(1, int(round(radius / h)))
+    H = aspect_ratio * n_r * h if height is None else float(height)
+    n_z = max(1, int(round(H / h)))
+    R_i, H_i = n_r * h, n_z * h
+    a = H_i / R_i
+    mu = math.tan(math.radians(friction_angle)) if base_friction is None else float(base_friction)
+    if domain_radius is None:
+        domain_radius = R_i * (1.5 + 1.6 * _law_runout_guess(a))
+    n_dr = max(n_r + 2, int(math.ceil(domain_radius / h - 1e-9)))
+    n_dz = n_z + 4
+    data: dict[str, Any] = {
+        "simulation": {
+            "formulation": formulation,
+            "shape_function": shape_function,
+            "update_scheme": update_scheme,
+            "flip_fraction": flip_fraction,
+            "end_time": end_time,
+            "output_interval": output_interval,
+            "gravity": [0.0, -9.81],
+            "damping": 0.0,
+            "stop_at_rest": stop_at_rest,
+            "stop_at_rest_after": release_time + rest_check_after,
+        },
+        "grid": {"origin": [0.0, 0.0], "extent": [n_dr * h, n_dz * h], "cell_size": h},
+        "materials": {
+            "sand": {
+                "model": "mohr_coulomb",
+                "density": density,
+                "youngs_modulus": youngs_modulus,
+                "poisson_ratio": poisson_ratio,
+                "friction_angle": friction_angle,
+                "dilation_angle": dilation_angle,
+                "cohesion": cohesion,
+                "tension_cutoff": 0.0,
+            }
+        },
+        "bodies": [
+            {
+                "name": "column",
+                "material": "sand",
+                "min": [0.0, 0.0],
+                "max": [R_i, H_i],
+                "particles_per_cell": particles_per_cell,
+                "initial_stress": "geostatic",
+                "k0": 1.0 - math.sin(math.radians(friction_angle)),
+            }
+        ],
+        "boundaries": {
+            "left": {"condition": "roller"},
+            "right": {"condition": "free"},
+            "bottom": {"condition": "friction", "coefficient": mu},
+            "top": {"condition": "free"},
+        },
+        "walls": [
+            {
+                "axis": "x",
+                "position": R_i,
+                "material_side": "negative",
+                "condition": "roller",
+                "removal_time": release_time,
+            }
+        ],
+    }
+    if as_dict:
+        return data
+    return Scenario.from_dict(data)

@@ -1,0 +1,140 @@
+"""Granular column collapse: deposit analysis on synthetic particle sets, the scenario
+builder, and a tiny coarse run through ``axmpm validate``."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from axmpm.collapse import (ColumnGeometry, collapse_scenario, deposit_metrics, final_height,
+                            geometry_from_scenario, particle_metrics, runout_radius, surface_profile)
+
+H_CELL = 0.002
+S = H_CELL / 2
+
+
+def geom(formulation="axisymmetric", R=0.03, H=0.016):
+    return ColumnGeometry(radius=R, height=H, axis=0.0, base=0.0, cell_size=H_CELL,
+                          particles_per_cell=2, formulation=formulation)
+
+
+def lattice(profile, r_max, formulation="axisymmetric"):
+    """Particles on the s-lattice under the surface z = profile(r) (0 < r < r_max)."""
+    rs = (np.arange(int(round(r_max / S))) + 0.5) * S
+    pts = []
+    for r in rs:
+        top = profile(r)
+        n = int(round(top / S))
+        pts += [(r, (k + 0.5) * S) for k in range(n)]
+    x = np.array(pts)
+    v0 = (x[:, 0] * S * S) if formulation == "axisymmetric" else np.full(len(x), S * S)
+    return x, v0, 1550.0 * v0
+
+
+@pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
+def test_rectangle_gives_its_radius_and_height(formulation):
+    g = geom(formulation)
+    x, v0, m = lattice(lambda r: 0.016, 0.03, formulation)
+    met = particle_metrics(x, v0, m, g)
+    assert met["runout_radius"] == pytest.approx(0.03, abs=1e-12)
+    assert met["final_height"] == pytest.approx(0.016, rel=1e-9)
+    assert met["runout_normalised"] == pytest.approx(0.0, abs=1e-9)
+    assert met["final_height_normalised"] == pytest.approx(0.016 / 0.03)
+    r, h = surface_profile(x, v0, g)
+    np.testing.assert_allclose(h[r < 0.03], 0.016, rtol=1e-9)
+
+
+@pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
+def test_cone_gives_apex_and_foot(formulation):
+    g = geom(formulation)
+    H0, Rc = 0.024, 0.05  # cone apex height and foot radius (slope ~ 26°)
+    x, v0, m = lattice(lambda r: H0 * (1 - r / Rc), Rc, formulation)
+    met = particle_metrics(x, v0, m, g)
+    # lattice staircase: within one particle spacing
+    assert met["final_height"] == pytest.approx(H0, abs=S)
+    assert abs(met["runout_radius"] - Rc) <= 1.5 * S + 1e-12
+
+
+def test_truncated_cone():
+    g = geom()
+    x, v0, m = lattice(lambda r: min(0.016, 0.016 * (0.045 - r) / 0.025), 0.045)
+    assert final_height(x, v0, g) == pytest.approx(0.016, abs=0.2 * S)
+    assert runout_radius(x, v0, g) == pytest.approx(0.045, abs=1.5 * S)
+
+
+def test_stray_particles_do_not_change_runout():
+    g = geom()
+    x, v0, m = lattice(lambda r: 0.016 * min(1.0, (0.045 - r) / 0.02), 0.045)
+    base = particle_metrics(x, v0, m, g)
+    # isolated grains thrown beyond an empty bin, and a thin spike on the axis
+    strays = np.array([[0.0520, 0.0005], [0.0600, 0.0005], [0.0800, 0.0015], [0.070, 0.0005]])
+    spike = np.array([[0.0005, 0.0165 + k * S] for k in range(4)])
+    extra = np.vstack([strays, spike])
+    xe = np.vstack([x, extra])
+    ve = np.concatenate([v0, extra[:, 0] * S * S])
+    me = 1550.0 * ve
+    with_strays = particle_metrics(xe, ve, me, g)
+    assert with_strays["runout_radius"] == base["runout_radius"]
+    assert with_strays["max_particle_radius"] > 0.08  # the strays are there
+    assert with_strays["final_height"] == pytest.approx(base["final_height"], abs=0.25 * S)
+    assert with_strays["max_particle_height"] > base["max_particle_height"] + 3 * S
+
+
+def test_builder_geometry_walls_and_friction():
+    s = collapse_scenario(0.8)
+    g = geometry_from_scenario(s)
+    assert (g.radius, g.height, g.cells_per_radius) == pytest.approx((0.03, 0.024, 15.0))
+    assert s.simulation.formulation == "axisymmetric" and s.simulation.output_interval == 0.02
+    assert s.simulation.shape_function == "cpgimp" and s.simulation.update_scheme == "musl"
+    mat = s.materials["sand"]
+    assert (mat.model, mat.friction_angle, mat.dilation_angle, mat.cohesion) == ("mohr_coulomb", 25.0, 0.0, 0.0)
+    body = s.bodies[0]
+    assert body.initial_stress == "geostatic"
+    assert body.k0 == pytest.approx(1 - math.sin(math.radians(25.0)))
+    (wall,) = s.walls
+    assert (wall.axis, wall.position, wall.material_side, wall.condition) == ("x", 0.03, "negative", "roller")
+    assert s.boundaries.bottom.condition == "friction"
+    assert s.boundaries.bottom.coefficient == pytest.approx(math.tan(math.radians(25.0)))
+    assert s.simulation.stop_at_rest > 0
+    # H_i = 0.56 R_i = 16.8 mm is not on the 2 mm grid: rounded to 16 mm
+    g56 = geometry_from_scenario(collapse_scenario(0.56))
+    assert g56.height == pytest.approx(0.016) and g56.aspect_ratio == pytest.approx(0.5333, abs=1e-3)
+    assert geometry_from_scenario(collapse_scenario(0.56, cell_size=0.001)).height == pytest.approx(0.017)
+    assert geometry_from_scenario(collapse_scenario(5.4)).height == pytest.approx(0.162)
+
+
+def test_examples_match_builder():
+    from axmpm.scenario import Scenario
+
+    root = Path(__file__).resolve().parents[1] / "examples"
+    for name, a in (("a056", 0.56), ("a08", 0.8), ("a54", 5.4)):
+        ex = Scenario.from_toml(root / f"column_collapse_{name}.toml")
+        assert ex.to_dict() == collapse_scenario(a).to_dict()
+
+
+def test_tiny_validate_run(tmp_path):
+    out = tmp_path / "val"
+    from axmpm.cli import main
+
+    code = main(["validate", "--cases", "a056", "--out", str(out), "--jobs", "1",
+                 "--set", "cell_size=0.004", "--set", "end_time=0.06", "--set", "simulation.cfl=0.5"])
+    assert code == 0
+    data = json.loads((out / "validation.json").read_text())
+    (case,) = data["cases"]
+    for key in ("name", "aspect_ratio", "formulation", "initial_radius", "initial_height",
+                "runout_radius", "final_height", "run_dir", "cells_per_radius", "laws"):
+        assert key in case
+    assert case["name"] == "a056" and case["formulation"] == "axisymmetric"
+    assert case["status"] == "completed" and case["cells_per_radius"] == pytest.approx(8.0)
+    lube = case["laws"]["lube2004"]
+    for key in ("runout_radius", "final_height", "runout_radius_rel_diff", "final_height_rel_diff"):
+        assert key in lube
+    # reported values are those of the last frame
+    m = deposit_metrics(case["run_dir"])
+    assert m["runout_radius"] == case["runout_radius"] and m["final_height"] == case["final_height"]
+    assert m["time"] == pytest.approx(0.06)
+    assert case["initial_radius"] < case["runout_radius"] < 2 * case["initial_radius"]
+    assert (out / "report.md").exists() and (out / "profiles.png").exists() and (out / "laws.png").exists()
+    assert "cells per initial radius" in (out / "report.md").read_text()

@@ -1,0 +1,94 @@
+"""axmpm.material_point: the Python driver of one engine material point (issue #4)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from axmpm import material_point
+from axmpm.errors import ScenarioError
+from axmpm.material_point import drained_triaxial, validate_material, yield_ratio
+
+E, NU = 1.0e6, 0.3
+LAM = E * NU / ((1 + NU) * (1 - 2 * NU))
+MU = E / (2 * (1 + NU))
+
+
+def mc(phi=25.0, psi=0.0, c=0.0):
+    return dict(model="mohr_coulomb", density=1550.0, youngs_modulus=E, poisson_ratio=NU,
+                friction_angle=phi, dilation_angle=psi, cohesion=c)
+
+
+def test_elastic_steps_equal_linear_elastic():
+    # a small general strain path well inside the yield surface (confined, compressive)
+    rng = np.random.default_rng(1)
+    L = np.zeros((20, 5))
+    L[:, 0] = -0.5 + 0.1 * rng.standard_normal(20)
+    L[:, 3] = -0.5 + 0.1 * rng.standard_normal(20)
+    L[:, 4] = -0.5 + 0.1 * rng.standard_normal(20)
+    dt = 1e-4
+    s0 = [-1e4, -1e4, -1e4, 0.0]
+    plastic = material_point(mc(), L, dt, s0)
+    elastic = material_point(dict(model="linear_elastic", density=1550.0, youngs_modulus=E,
+                                  poisson_ratio=NU), L, dt, s0)
+    np.testing.assert_allclose(plastic.stresses, elastic.stresses, rtol=0, atol=1e-9)
+    assert np.all(plastic.state("plastic_shear_strain") == 0.0)
+    # and Hooke by hand (no spin, so no Jaumann rotation)
+    eps = L.sum(axis=0) * dt
+    tr = eps[0] + eps[3] + eps[4]
+    hooke = np.array(s0) + np.array([LAM * tr + 2 * MU * eps[0], LAM * tr + 2 * MU * eps[3],
+                                     LAM * tr + 2 * MU * eps[4], 0.0])
+    np.testing.assert_allclose(plastic.stresses[-1], hooke, rtol=1e-12, atol=1e-9)
+
+
+def test_returns_pair_and_names():
+    out = material_point(mc(), np.zeros((3, 5)), 1e-3)
+    stresses, states = out
+    assert stresses.shape == (3, 4) and states.shape == (3, 2)
+    assert out.state_names == ["plastic_shear_strain", "plastic_volumetric_strain"]
+
+
+@pytest.mark.parametrize("phi", [20.0, 25.0, 35.0])
+@pytest.mark.parametrize("kind", ["triaxial", "biaxial"])
+def test_drained_compression_fails_at_mohr_coulomb_ratio(phi, kind):
+    r = drained_triaxial(mc(phi), confining=1e3, axial_strain=0.02, steps=200, kind=kind)
+    np.testing.assert_allclose(r.lateral_stress, 1e3, rtol=1e-9)  # drained: constant confinement
+    ratio = r.axial_stress / r.lateral_stress
+    k = yield_ratio(phi)
+    assert k == pytest.approx((1 + math.sin(math.radians(phi))) / (1 - math.sin(math.radians(phi))))
+    assert ratio.max() == pytest.approx(k, rel=1e-9)  # never above the failure ratio
+    assert ratio[-1] == pytest.approx(k, rel=1e-9)  # perfectly plastic: stays on it
+    assert r.state("plastic_shear_strain")[-1] > 0.0
+    # before failure the ratio follows elasticity: dσ_a/dε_a = E (triaxial), E/(1-ν²) (biaxial)
+    modulus = E if kind == "triaxial" else E / (1 - NU**2)
+    assert (r.axial_stress[1] - r.axial_stress[0]) / (r.axial_strain[1] - r.axial_strain[0]) == pytest.approx(
+        modulus, rel=1e-6)
+
+
+def test_zero_dilation_no_plastic_volume_change_at_plane_return():
+    r = drained_triaxial(mc(25.0, 0.0), confining=1e3, axial_strain=0.02, steps=200, kind="biaxial")
+    # the plane return: σ33 strictly between the other two principal stresses
+    s = -r.stresses[-1]
+    assert s[0] < s[2] < s[1]
+    plastic = r.state("plastic_shear_strain") > 0
+    assert plastic[-1] and plastic.sum() > 50
+    assert np.max(np.abs(r.state("plastic_volumetric_strain"))) < 1e-12
+    ev = r.volumetric_strain[plastic]
+    assert np.ptp(ev) < 1e-9  # no volume change once flowing at constant stress
+    # the check is sensitive: ψ = 10° dilates
+    d = drained_triaxial(mc(25.0, 10.0), confining=1e3, axial_strain=0.02, steps=200, kind="biaxial")
+    assert d.state("plastic_volumetric_strain")[-1] > 1e-3
+    assert d.volumetric_strain[-1] < d.volumetric_strain[100] - 1e-3
+
+
+def test_material_is_validated_with_scenario_models():
+    with pytest.raises(ScenarioError, match="youngs_modulus"):
+        material_point(dict(mc(), youngs_modulus=-1.0), np.zeros((1, 5)), 1e-3)
+    with pytest.raises(ScenarioError, match="dilation_angle"):
+        validate_material(mc(25.0, 30.0))
+    with pytest.raises(ScenarioError, match="frction_angle|friction_angle"):
+        validate_material(dict(mc(), frction_angle=3))
+    with pytest.raises(ValueError, match="shape"):
+        material_point(mc(), np.zeros((2, 4)), 1e-3)
+    with pytest.raises(ValueError, match="dt"):
+        material_point(mc(), np.zeros((2, 5)), 0.0)
