@@ -94,7 +94,8 @@ impl Simulation {
         Self::new(Config::from_json(json)?, threads)
     }
 
-    /// Builds a run. `threads` = 0 uses every core; results do not depend on it.
+    /// Builds a run. `threads` = 0 uses every core the problem can use (one per 10,000
+    /// particles, at most all of them); results do not depend on it.
     pub fn new(config: Config, threads: usize) -> Result<Self, String> {
         Self::build(config, threads, None)
     }
@@ -172,6 +173,14 @@ impl Simulation {
             timings: Default::default(),
         };
         state.allocate_scratch();
+        // threads = 0: as many cores as the problem can use. Below ~10,000 particles per thread
+        // the fork/join of each pass costs more than it saves. Results do not depend on it.
+        let threads = if threads == 0 {
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            (state.particles.len() / 10_000).clamp(1, cores)
+        } else {
+            threads
+        };
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
