@@ -367,33 +367,29 @@ impl MohrCoulomb {
         let e = self.youngs_modulus;
         [((1.0 + nu) * d[0] - s) / e, ((1.0 + nu) * d[1] - s) / e, ((1.0 + nu) * d[2] - s) / e]
     }
-}
 
-impl Material for MohrCoulomb {
-    fn model(&self) -> &'static str {
-        "mohr_coulomb"
-    }
-    fn density(&self) -> f64 {
-        self.density
-    }
-    fn wave_speed(&self) -> f64 {
-        p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
-    }
-    fn state_names(&self) -> &'static [&'static str] {
-        &["plastic_shear_strain", "plastic_volumetric_strain"]
+    /// Fast elastic test (most particles, most steps): the test of [`Self::return_trial`] but
+    /// with the in-plane radius from `sqrt` instead of `hypot` (a libm call) and a margin
+    /// 1e-9 (1 + k)·scale, far larger than the few ulps by which the two evaluations of f and
+    /// σ1 can differ, and than the tolerance of `return_principal`. A trial stress that passes
+    /// is therefore also elastic for the exact test, which returns it unchanged: skipping that
+    /// test gives the same result bit for bit. Anything else (near the surface, NaN,
+    /// overflow) answers `false` and takes the exact path.
+    #[inline(always)]
+    fn clearly_elastic(&self, tr: &Stress) -> bool {
+        let centre = 0.5 * (tr[0] + tr[1]);
+        let half = 0.5 * (tr[0] - tr[1]);
+        let r = (half * half + tr[3] * tr[3]).sqrt();
+        let s1 = (centre + r).max(tr[2]);
+        let s3 = (centre - r).min(tr[2]);
+        let scale = centre.abs() + r + tr[2].abs() + self.two_c_sqrt_k + self.sigma_t.abs();
+        // The absolute term covers the underflow of `half * half` for tiny stresses.
+        let margin = 1e-9 * (1.0 + self.k.abs()) * scale + 1e-140;
+        self.yield_function(&[s1, 0.0, s3]) < -margin && (!self.cutoff || s1 < self.sigma_t - margin)
     }
 
-    fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
-        // Hypoelastic Jaumann trial, identical (bit for bit) to LinearElastic.
-        let (d, spin) = rate_of_deformation(&k.velocity_gradient);
-        let de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
-        let rot = jaumann_rotation(stress, spin, k.dt);
-        let inc = self.elastic.elastic_increment(&de);
-        let mut tr = *stress;
-        for c in 0..4 {
-            tr[c] += inc[c] + rot[c];
-        }
-
+    /// Return mapping of the trial stress `tr` in principal space (the exact path).
+    fn return_trial(&self, stress: &mut Stress, state: &mut [f64], tr: Stress) {
         // In-plane principal values a ≥ b and their axes; σ33 is principal.
         let centre = 0.5 * (tr[0] + tr[1]);
         let half = 0.5 * (tr[0] - tr[1]);
@@ -432,6 +428,39 @@ impl Material for MohrCoulomb {
             state[0] += (2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2)).sqrt();
             state[1] += vol;
         }
+    }
+}
+
+impl Material for MohrCoulomb {
+    fn model(&self) -> &'static str {
+        "mohr_coulomb"
+    }
+    fn density(&self) -> f64 {
+        self.density
+    }
+    fn wave_speed(&self) -> f64 {
+        p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
+    }
+    fn state_names(&self) -> &'static [&'static str] {
+        &["plastic_shear_strain", "plastic_volumetric_strain"]
+    }
+
+    fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
+        // Hypoelastic Jaumann trial, identical (bit for bit) to LinearElastic.
+        let (d, spin) = rate_of_deformation(&k.velocity_gradient);
+        let de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
+        let rot = jaumann_rotation(stress, spin, k.dt);
+        let inc = self.elastic.elastic_increment(&de);
+        let mut tr = *stress;
+        for c in 0..4 {
+            tr[c] += inc[c] + rot[c];
+        }
+
+        if self.clearly_elastic(&tr) {
+            *stress = tr;
+            return;
+        }
+        self.return_trial(stress, state, tr);
     }
 }
 
@@ -957,6 +986,34 @@ mod tests {
             );
             assert!((s[3] + s_start[3]).abs() < 1e-3 * s3.abs());
         }
+    }
+
+    /// The fast elastic exit never changes a result: for trial stresses spread across the
+    /// yield surface (both sides, near the apex, the cut-off and tiny magnitudes) the full
+    /// update equals the exact return mapping alone, bit for bit, state included.
+    #[test]
+    fn fast_elastic_exit_equals_the_exact_path_bit_for_bit() {
+        let mut rng = Lcg(7);
+        let mut fast = 0;
+        for m in [mc(30.0, 0.0, 10e3, 0.0), mc(25.0, 0.0, 0.0, 0.0), mc(40.0, 10.0, 5e3, 2e3), mc(0.0, 0.0, 20e3, 1e3)] {
+            for i in 0..20000 {
+                let mag = [1.0, 1e3, 1e5, 1e-200][i % 4];
+                let tr: Stress = [0u8; 4].map(|_| mag * (2.0 * rng.next() - 1.5));
+                let mut state_a = [0.1, 0.2];
+                let mut state_b = state_a;
+                let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+                if m.clearly_elastic(&tr) {
+                    a = tr;
+                    fast += 1;
+                } else {
+                    m.return_trial(&mut a, &mut state_a, tr);
+                }
+                m.return_trial(&mut b, &mut state_b, tr);
+                assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{tr:?}");
+                assert_eq!(state_a.map(f64::to_bits), state_b.map(f64::to_bits));
+            }
+        }
+        assert!(fast > 10000, "the fast exit was taken only {fast} times");
     }
 
     /// Test 5: steps that stay inside the surface equal the linear elastic update bit for bit.

@@ -1,7 +1,9 @@
 //! Original MPM: the bilinear hat function of the cell containing the particle
 //! (Sulsky, Chen & Schreyer 1994). Cheapest, and noisy when particles cross cell faces.
 
-use super::{bilinear_nodes, ParticleDomain, ShapeFunction, Stencil};
+#[cfg(doc)]
+use super::bilinear_nodes;
+use super::{fast_floor, ParticleDomain, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
 
 pub struct Linear;
@@ -9,10 +11,37 @@ pub struct Linear;
 impl ShapeFunction for Linear {
     const NAME: &'static str = "linear";
 
+    /// The 4 nodes of the particle's cell, in the order of [`bilinear_nodes`] (row by row),
+    /// with the same arithmetic, so the two agree bit for bit for any point inside the grid.
+    ///
+    /// Particles are always inside the grid (the step fails as soon as one leaves it), so the
+    /// cell index is clamped to the grid instead of testing every node: all 4 nodes exist. The
+    /// clamp only matters for a particle exactly on the upper edge, which then gets weight 1
+    /// and a one-sided gradient from the last cell instead of a dropped node.
     #[inline(always)]
+    #[allow(clippy::manual_clamp)] // `max` before `min` maps NaN to 0, like `fast_floor`
     fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, _axisymmetric: bool, out: &mut Stencil) {
-        out.clear();
-        bilinear_nodes(grid, domain.position, |node, w, g| out.push(node, w, g));
+        let l = grid.local(domain.position);
+        let ci = fast_floor(l[0]).max(0.0).min((grid.cells[0] - 1) as f64);
+        let cj = fast_floor(l[1]).max(0.0).min((grid.cells[1] - 1) as f64);
+        let fx = l[0] - ci;
+        let fy = l[1] - cj;
+        let ih = grid.inverse_cell_size;
+        let wx = [1.0 - fx, fx];
+        let wy = [1.0 - fy, fy];
+        let dx = [-ih, ih];
+        let nx = grid.nodes[0];
+        let base = cj as usize * nx + ci as usize;
+        let nodes = [base, base + 1, base + nx, base + nx + 1];
+        for b in 0..2 {
+            for a in 0..2 {
+                let e = 2 * b + a;
+                out.node[e] = nodes[e] as u32;
+                out.weight[e] = wx[a] * wy[b];
+                out.gradient[e] = [dx[a] * wy[b], wx[a] * dx[b]];
+            }
+        }
+        out.len = 4;
     }
 }
 
@@ -24,6 +53,33 @@ mod tests {
     #[test]
     fn partition_of_unity_and_zero_gradient_sum() {
         check_partition_of_unity::<Linear>([0.025, 0.025], false);
+    }
+
+    #[test]
+    fn equals_bilinear_nodes_bit_for_bit_inside_the_grid() {
+        let g = grid();
+        let mut st = Stencil::default();
+        for a in 0..=50 {
+            for b in 0..=50 {
+                // Includes the origin edges and points on cell faces.
+                let x = [a as f64 * 0.0199 + 1e-3 * (b % 3) as f64, b as f64 * 0.0199];
+                let p = single_particle(x, [0.025; 2]);
+                Linear::stencil(&g, &p, 0, false, &mut st);
+                let mut reference = Stencil::default();
+                crate::shape::bilinear_nodes(&g, x, |node, w, d| reference.push(node, w, d));
+                assert_eq!(st.len, reference.len, "at {x:?}");
+                for k in 0..st.len {
+                    assert_eq!(st.node[k], reference.node[k]);
+                    assert_eq!(st.weight[k].to_bits(), reference.weight[k].to_bits());
+                    assert_eq!(st.gradient[k][0].to_bits(), reference.gradient[k][0].to_bits());
+                    assert_eq!(st.gradient[k][1].to_bits(), reference.gradient[k][1].to_bits());
+                }
+            }
+        }
+        // On the upper edge the last cell is used: weight 1 on the edge node.
+        Linear::stencil(&g, &single_particle([1.0, 0.55], [0.025; 2]), 0, false, &mut st);
+        assert_eq!(st.len, 4);
+        assert!((st.weight_sum() - 1.0).abs() < 1e-15);
     }
 
     #[test]
