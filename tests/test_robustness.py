@@ -317,9 +317,15 @@ def test_interrupt_in_process_then_resume(monkeypatch, tmp_path: Path) -> None:
             os.kill(os.getpid(), signal.SIGINT)
 
     monkeypatch.setattr(runner._Driver, "record", record)
+    # A process started in the background by a non-interactive shell (as CI may be) inherits
+    # SIGINT ignored; restore Python's own handler, as an interactive session has it.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     out = tmp_path / "cut"
-    with pytest.raises(KeyboardInterrupt):
-        run(base(), out, threads=1)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run(base(), out, threads=1)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     monkeypatch.setattr(runner._Driver, "record", original)
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted" and summary["checkpoint"]["time"] == 0.025
