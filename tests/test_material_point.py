@@ -1,4 +1,4 @@
-"""axmpm.material_point: the Python driver of one engine material point (issue #4)."""
+"""axmpm.material_point (axmpm/material_driver.py): the Python driver of one engine material point (issue #4)."""
 
 import math
 
@@ -7,7 +7,7 @@ import pytest
 
 from axmpm import material_point
 from axmpm.errors import ScenarioError
-from axmpm.material_point import drained_triaxial, validate_material, yield_ratio
+from axmpm.material_driver import drained_triaxial, validate_material, yield_ratio
 
 E, NU = 1.0e6, 0.3
 LAM = E * NU / ((1 + NU) * (1 - 2 * NU))

@@ -4,7 +4,7 @@ axisymmetric). Rust engine (``axmpm._core``), Python front end (this package).""
 from .errors import RunError, ScenarioError
 from .scenario import Scenario, apply_overrides
 
-__all__ = ["Scenario", "ScenarioError", "RunError", "apply_overrides", "run", "load_run"]
+__all__ = ["Scenario", "ScenarioError", "RunError", "apply_overrides", "run", "load_run", "material_point"]
 __version__ = "0.1.0"
 
 
@@ -18,4 +18,8 @@ def __getattr__(name: str):
         from .output import load_run
 
         return load_run
+    if name == "material_point":
+        from .material_driver import material_point
+
+        return material_point
     raise AttributeError(f"module 'axmpm' has no attribute {name!r}")

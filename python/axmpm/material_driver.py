@@ -214,17 +214,3 @@ def drained_triaxial(
         state_names=list(names),
         lateral_rates=np.array(lats),
     )
-
-
-# ``axmpm.material_point`` is both this module and, by the brief's API, a function: the
-# import system binds the package attribute to the module, so make the module callable.
-import sys as _sys
-import types as _types
-
-
-class _CallableModule(_types.ModuleType):
-    def __call__(self, *args: Any, **kwargs: Any) -> MaterialPointResponse:
-        return material_point(*args, **kwargs)
-
-
-_sys.modules[__name__].__class__ = _CallableModule
