@@ -212,18 +212,16 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 lane.momentum[node][0] += w * m * v[0];
                 lane.momentum[node][1] += w * m * v[1];
             }
-            {
-                let vol = particles.volume[p];
-                let s = particles.stress[p];
-                let hoop = F::hoop_factor(particles.position[p]);
-                for e in 0..st.len {
-                    let node = st.node[e] as usize;
-                    let w = st.weight[e];
-                    let g = st.gradient[e];
-                    // Internal force (Sulsky & Schreyer 1996, PHYSICS.md §2) plus gravity.
-                    lane.force[node][0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
-                    lane.force[node][1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
-                }
+            let vol = particles.volume[p];
+            let s = particles.stress[p];
+            let hoop = F::hoop_factor(particles.position[p]);
+            for e in 0..st.len {
+                let node = st.node[e] as usize;
+                let w = st.weight[e];
+                let g = st.gradient[e];
+                // Internal force (Sulsky & Schreyer 1996, PHYSICS.md §2) plus gravity.
+                lane.force[node][0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
+                lane.force[node][1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
             }
         }
         lane.touched = (lo, hi);
@@ -497,12 +495,10 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
 /// one pass (each particle reads its start-of-step position and domain before moving them).
 fn update_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) -> Result<(), Failure> {
     let particles = &mut state.particles;
-    let stride = particles.state_stride.max(1);
-    if particles.state.len() != particles.len() * stride {
-        // Keep the zipped state chunks aligned when no material has state.
-        particles.state = vec![0.0; particles.len() * stride];
-        particles.state_stride = stride;
-    }
+    // At least one state slot per particle (set up in `Simulation::build`), so the zipped
+    // state chunks below stay aligned with the particles.
+    let stride = particles.state_stride;
+    debug_assert!(stride >= 1 && particles.state.len() == particles.len() * stride);
     let inputs = UpdateInputs {
         grid: state.grid,
         dt,
