@@ -321,11 +321,16 @@ def _collapse_metrics(run_dir: Path) -> tuple[dict[str, Any], str]:
 
 def metrics_of(run_dir: Path, collapse: bool) -> dict[str, Any]:
     """The row figures of a finished run folder (summary, and deposit when ``collapse``)."""
-    summary = json.loads((run_dir / "summary.json").read_text())
-    row: dict[str, Any] = {"status": "completed" if summary.get("status") == "completed" else "failed",
-                           "error": "" if summary.get("status") == "completed" else summary.get("message", "")}
+    return _row_from_summary(json.loads((run_dir / "summary.json").read_text()), run_dir, collapse)
+
+
+def _row_from_summary(summary: dict[str, Any], run_dir: Path, collapse: bool) -> dict[str, Any]:
+    """Status, error, the summary's figures and (for a completed collapse) the deposit."""
+    completed = summary.get("status") == "completed"
+    row: dict[str, Any] = {"status": "completed" if completed else "failed",
+                           "error": "" if completed else summary.get("message", "")}
     row.update(_flatten_summary(summary))
-    if collapse and row["status"] == "completed":
+    if collapse and completed:
         deposit, note = _collapse_metrics(run_dir)
         row.update(deposit)
         if note:
@@ -350,15 +355,7 @@ def run_task(data: dict[str, Any], out: str, threads: int, collapse: bool) -> di
     except Exception as exc:  # a bug or I/O problem: record it, keep the sweep going
         return {"status": "failed", "error": f"{type(exc).__name__}: {exc}",
                 "wall_seconds": _time.perf_counter() - started}
-    row: dict[str, Any] = {"status": summary["status"] if summary["status"] == "completed" else "failed",
-                           "error": summary.get("message", "") if summary["status"] != "completed" else ""}
-    row.update(_flatten_summary(summary))
-    if collapse and row["status"] == "completed":
-        deposit, note = _collapse_metrics(out_path)
-        row.update(deposit)
-        if note:
-            row["metrics_note"] = note
-    return row
+    return _row_from_summary(summary, out_path, collapse)
 
 
 # --------------------------------------------------------------------------- cluster
