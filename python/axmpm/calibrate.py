@@ -464,6 +464,14 @@ def calibrate(
 # --------------------------------------------------------------------------- report
 
 
+def _status_cell(row: dict[str, Any]) -> str:
+    """A run's status for a Markdown table cell: "completed", or "failed: " and the error."""
+    status = row.get("status", "")
+    if status != "completed":
+        status = "failed: " + str(row.get("error", ""))[:60].replace("|", "/")
+    return status
+
+
 def _fmt(x: Any, spec: str = ".3g") -> str:
     x = _num(x)
     return "—" if x is None else format(x, spec)
@@ -584,10 +592,7 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
               "| E (MPa) | φ (°) | status | a | R* | H* | e_R | e_H | misfit |",
               "|---:|---:|---|---:|---:|---:|---:|---:|---:|"]
     for r in cal.scored:
-        status = r.get("status", "")
-        if status != "completed":
-            status = "failed: " + str(r.get("error", ""))[:60].replace("|", "/")
-        lines.append(f"| {float(r[cal.e_key]) / 1e6:g} | {float(r[cal.phi_key]):g} | {status} | "
+        lines.append(f"| {float(r[cal.e_key]) / 1e6:g} | {float(r[cal.phi_key]):g} | {_status_cell(r)} | "
                      f"{_fmt(r.get('aspect_ratio'))} | {_fmt(r.get('runout_normalised'))} | "
                      f"{_fmt(r.get('final_height_normalised'))} | {_pct(r.get('runout_error'))} | "
                      f"{_pct(r.get('height_error'))} | {_fmt(r.get('misfit'))} |")
@@ -625,10 +630,7 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
                   "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|"]
         cases = [dict(b, run="calibration: " + Path(cfg["scenario"]).stem)] + [dict(p) for p in cal.predictions]
         for r in cases:
-            status = r.get("status", "")
-            if status != "completed":
-                status = "failed: " + str(r.get("error", ""))[:60].replace("|", "/")
-            lines.append(f"| {r.get('run')} | {_fmt(r.get('aspect_ratio'))} | {status} | "
+            lines.append(f"| {r.get('run')} | {_fmt(r.get('aspect_ratio'))} | {_status_cell(r)} | "
                          f"{_fmt(r.get('runout_normalised'))} | {_fmt(r.get('law_runout'))} | "
                          f"{_pct(r.get('runout_error'))} | {_fmt(r.get('final_height_normalised'))} | "
                          f"{_fmt(r.get('law_height'))} | {_pct(r.get('height_error'))} | {_fmt(r.get('misfit'))} |")
