@@ -256,12 +256,18 @@ impl Simulation {
         self.dt
     }
     /// Bytes held per particle: the particle arrays plus the per-particle scratch of the step
-    /// (the grid and its lanes are counted separately, per node).
+    /// (position increments and the scheme's stencil cache; the grid and its lanes are counted
+    /// separately, per node).
     pub fn bytes_per_particle(&self) -> usize {
         let n = self.state.particles.len().max(1);
         let sc = &self.state.scratch;
-        let scratch = sc.velocity.capacity() * 16 + sc.displacement.capacity() * 16;
-        self.state.particles.bytes_per_particle() + scratch / n
+        let cache = match self.config.simulation.shape_function {
+            ShapeFunctionKind::Linear => std::mem::size_of::<<Linear as ShapeFunction>::Cache>(),
+            ShapeFunctionKind::Ugimp => std::mem::size_of::<<UGimp as ShapeFunction>::Cache>(),
+            ShapeFunctionKind::Cpgimp => std::mem::size_of::<<CpGimp as ShapeFunction>::Cache>(),
+            ShapeFunctionKind::Cpdi2 => std::mem::size_of::<<Cpdi2 as ShapeFunction>::Cache>(),
+        };
+        self.state.particles.bytes_per_particle() + sc.displacement.capacity() * 16 / n + cache
     }
     pub fn threads(&self) -> usize {
         self.pool.current_num_threads()

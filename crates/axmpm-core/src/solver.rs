@@ -64,9 +64,11 @@ impl Lane {
 }
 
 /// Per-particle scratch arrays reused every step (no allocation in the step loop).
-#[derive(Clone, Debug, Default)]
+#[derive(Default)]
 pub struct Scratch {
-    pub velocity: Vec<[f64; 2]>,
+    /// `Vec<S::Cache>` of the scheme in use: each particle's stencil data, computed once per
+    /// step in particle → grid and reused by grid → particle and the particle update.
+    pub stencil_cache: Option<Box<dyn std::any::Any + Send + Sync>>,
     pub displacement: Vec<[f64; 2]>,
 }
 
@@ -149,7 +151,6 @@ fn first_failure(a: Option<Failure>, b: Option<Failure>) -> Option<Failure> {
 impl State {
     pub fn allocate_scratch(&mut self) {
         let n = self.particles.len();
-        self.scratch.velocity = vec![[0.0; 2]; n];
         self.scratch.displacement = vec![[0.0; 2]; n];
         self.lanes = (0..LANES).map(|_| Lane::new(self.grid.num_nodes())).collect();
     }
@@ -161,25 +162,20 @@ fn lane_length(n: usize) -> usize {
     n.div_ceil(LANES).max(1)
 }
 
-/// Particle index range of lane `k`.
-#[inline(always)]
-fn lane_range(k: usize, n: usize) -> std::ops::Range<usize> {
-    let len = lane_length(n);
-    (k * len).min(n)..((k + 1) * len).min(n)
-}
-
 /// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
 /// any (the state is then left as computed, for inspection).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
+    let mut cache = take_stencil_cache::<S>(state);
     let t0 = std::time::Instant::now();
-    particle_to_grid::<F, S>(state, gravity);
+    particle_to_grid::<F, S>(state, gravity, &mut cache);
     let t1 = std::time::Instant::now();
     update_grid(state, dt);
     let t2 = std::time::Instant::now();
-    grid_to_particle::<F, S>(state, dt);
+    grid_to_particle::<F, S>(state, dt, &cache);
     let t3 = std::time::Instant::now();
-    let result = update_particles::<F, S>(state, dt);
+    let result = update_particles::<F, S>(state, dt, &cache);
     let t4 = std::time::Instant::now();
+    state.scratch.stencil_cache = Some(Box::new(cache));
     state.timings.particle_to_grid += (t1 - t0).as_secs_f64();
     state.timings.grid_update += (t2 - t1).as_secs_f64();
     state.timings.grid_to_particle += (t3 - t2).as_secs_f64();
@@ -189,18 +185,31 @@ pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravit
     result
 }
 
+/// The scheme's per-particle stencil cache, kept in the scratch between steps (allocated on
+/// the first step only).
+fn take_stencil_cache<S: ShapeFunction>(state: &mut State) -> Vec<S::Cache> {
+    let n = state.particles.len();
+    match state.scratch.stencil_cache.take().map(|b| b.downcast::<Vec<S::Cache>>()) {
+        Some(Ok(cache)) if cache.len() == n => *cache,
+        _ => vec![S::Cache::default(); n],
+    }
+}
+
 /// Scatters mass, momentum, internal and gravity forces to the nodes, lane by lane, then sums
-/// the lanes in a fixed order.
-fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2]) {
+/// the lanes in a fixed order. Computes each particle's stencil cache for the step.
+fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], cache: &mut [S::Cache]) {
     let particles = &state.particles;
     let grid = &state.grid;
-    let n = particles.len();
-    state.lanes.par_iter_mut().enumerate().for_each(|(k, lane)| {
+    let len = lane_length(particles.len());
+    cache.par_chunks_mut(len).zip(state.lanes.par_iter_mut()).enumerate().for_each(|(k, (lane_cache, lane))| {
         lane.clear();
         let mut st = Stencil::default();
         let (mut lo, mut hi) = (usize::MAX, 0usize);
-        for p in lane_range(k, n) {
-            S::stencil(grid, particles, p, F::AXISYMMETRIC, &mut st);
+        for (i, c) in lane_cache.iter_mut().enumerate() {
+            let p = k * len + i;
+            let domain = ParticleDomain::of(particles, p);
+            *c = S::prepare(grid, &domain, F::AXISYMMETRIC);
+            S::expand(grid, c, &domain, F::AXISYMMETRIC, &mut st);
             let m = particles.mass[p];
             let v = particles.velocity[p];
             for e in 0..st.len {
@@ -317,29 +326,37 @@ fn sign(x: f64) -> f64 {
 
 /// New particle velocities (PIC/FLIP blend) and position increments; with MUSL the new
 /// momentum is scattered back to the grid in the same pass (same stencil, same lanes).
-fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) {
-    let particles = &state.particles;
+fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, cache: &[S::Cache]) {
     let grid = &state.grid;
     let fields = &state.fields;
     let flip = state.parameters.flip_fraction;
     let musl = state.parameters.scheme == UpdateScheme::Musl;
-    let len = lane_length(particles.len());
-    state
-        .scratch
-        .velocity
+    // Velocities are updated in place (each particle reads only its own); the rest is read only.
+    let Particles { velocity, position, initial_half_width, deformation_gradient, corners, mass, .. } =
+        &mut state.particles;
+    let (position, initial_half_width, deformation_gradient, corners, mass) =
+        (&*position, &*initial_half_width, &*deformation_gradient, &*corners, &*mass);
+    let len = lane_length(velocity.len());
+    velocity
         .par_chunks_mut(len)
         .zip(state.scratch.displacement.par_chunks_mut(len))
         .zip(state.lanes.par_iter_mut())
         .enumerate()
-        .for_each(|(k, ((velocity_out, displacement_out), lane))| {
+        .for_each(|(k, ((velocity_io, displacement_out), lane))| {
             if musl {
                 lane.clear();
             }
             let (mut lo, mut hi) = (usize::MAX, 0usize);
             let mut st = Stencil::default();
-            for (i, (v_out, dx)) in velocity_out.iter_mut().zip(displacement_out.iter_mut()).enumerate() {
+            for (i, (v_io, dx)) in velocity_io.iter_mut().zip(displacement_out.iter_mut()).enumerate() {
                 let p = k * len + i;
-                S::stencil(grid, particles, p, F::AXISYMMETRIC, &mut st);
+                let domain = ParticleDomain {
+                    position: position[p],
+                    initial_half_width: initial_half_width[p],
+                    deformation_gradient: &deformation_gradient[p],
+                    corners: corners.get(p),
+                };
+                S::expand(grid, &cache[p], &domain, F::AXISYMMETRIC, &mut st);
                 let mut v_grid = [0.0; 2];
                 let mut dv = [0.0; 2];
                 for e in 0..st.len {
@@ -352,21 +369,22 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                     dv[0] += w * (vn[0] - vo[0]);
                     dv[1] += w * (vn[1] - vo[1]);
                 }
-                let v = particles.velocity[p];
-                *v_out = [
+                let v = *v_io;
+                let v_new = [
                     flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
                     flip * (v[1] + dv[1]) + (1.0 - flip) * v_grid[1],
                 ];
+                *v_io = v_new;
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
-                    let m = particles.mass[p];
+                    let m = mass[p];
                     for e in 0..st.len {
                         let node = st.node[e] as usize;
                         lo = lo.min(node);
                         hi = hi.max(node);
                         let wm = st.weight[e] * m;
-                        lane.momentum[node][0] += wm * v_out[0];
-                        lane.momentum[node][1] += wm * v_out[1];
+                        lane.momentum[node][0] += wm * v_new[0];
+                        lane.momentum[node][1] += wm * v_new[1];
                     }
                 }
             }
@@ -374,7 +392,6 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 lane.touched = (lo, hi);
             }
         });
-    std::mem::swap(&mut state.particles.velocity, &mut state.scratch.velocity);
     if musl {
         sum_lanes(&state.lanes, &mut state.fields, false);
         remap_velocity(state);
@@ -425,6 +442,7 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
     p: usize,
     u: ParticleUpdate,
+    cache: &S::Cache,
     st: &mut Stencil,
 ) -> Option<Failure> {
     let grid = &inputs.grid;
@@ -435,7 +453,7 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
         deformation_gradient: u.f,
         corners: u.corners.as_deref(),
     };
-    S::stencil_at(grid, &domain, F::AXISYMMETRIC, st);
+    S::expand(grid, cache, &domain, F::AXISYMMETRIC, st);
     // L_ij = Σ_i v_i ∂S_ip/∂x_j, and the hoop rate L_θθ = Σ v_r,i S_ip / R_p (0 in plane strain).
     let mut l = [0.0; 5];
     let mut vr = 0.0;
@@ -493,7 +511,11 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
 
 /// Velocity gradient, deformation gradient, volume, stress and position of every particle, in
 /// one pass (each particle reads its start-of-step position and domain before moving them).
-fn update_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64) -> Result<(), Failure> {
+fn update_particles<F: Formulation, S: ShapeFunction>(
+    state: &mut State,
+    dt: f64,
+    cache: &[S::Cache],
+) -> Result<(), Failure> {
     let particles = &mut state.particles;
     // At least one state slot per particle (set up in `Simulation::build`), so the zipped
     // state chunks below stay aligned with the particles.
@@ -524,24 +546,25 @@ fn update_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
         .zip(particles.stress.par_iter_mut())
         .zip(particles.volume.par_iter_mut())
         .zip(particles.position.par_iter_mut())
-        .zip(particles.state.par_chunks_mut(stride));
+        .zip(particles.state.par_chunks_mut(stride))
+        .zip(cache.par_iter());
     let failure = if S::USES_CORNERS {
         common
             .zip(particles.corners.par_iter_mut())
             .enumerate()
             .with_min_len(256)
-            .map_init(Stencil::default, |st, (p, (((((f, stress), volume), position), s), corners))| {
+            .map_init(Stencil::default, |st, (p, ((((((f, stress), volume), position), s), c), corners))| {
                 let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: Some(corners) };
-                update_particle::<F, S>(&inputs, p, u, st)
+                update_particle::<F, S>(&inputs, p, u, c, st)
             })
             .reduce(|| None, first_failure)
     } else {
         common
             .enumerate()
             .with_min_len(256)
-            .map_init(Stencil::default, |st, (p, ((((f, stress), volume), position), s))| {
+            .map_init(Stencil::default, |st, (p, (((((f, stress), volume), position), s), c))| {
                 let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: None };
-                update_particle::<F, S>(&inputs, p, u, st)
+                update_particle::<F, S>(&inputs, p, u, c, st)
             })
             .reduce(|| None, first_failure)
     };

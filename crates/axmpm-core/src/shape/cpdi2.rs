@@ -59,6 +59,18 @@ impl ShapeFunction for Cpdi2 {
     const NAME: &'static str = "cpdi2";
     const USES_CORNERS: bool = true;
 
+    /// Nothing is cached: the whole stencil is cheap (linear) or follows the corners, which
+    /// move during the step (CPDI2), so `expand` evaluates it from the domain.
+    type Cache = ();
+
+    #[inline(always)]
+    fn prepare(_: &GridGeometry, _: &ParticleDomain, _: bool) {}
+
+    #[inline(always)]
+    fn expand(grid: &GridGeometry, _: &(), domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+        Self::stencil_at(grid, domain, axisymmetric, out)
+    }
+
     #[inline(always)]
     fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
         out.clear();

@@ -18,7 +18,7 @@
 //! shrunk to min(l_r, R_p − origin_r) after the update and the cap, keeping the domain
 //! centred; nodes outside the grid are dropped.
 
-use super::ugimp::gimp_stencil;
+use super::ugimp::{gimp_axes, gimp_tensor, GimpCache};
 use super::{ParticleDomain, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
 
@@ -27,11 +27,18 @@ pub struct CpGimp;
 impl ShapeFunction for CpGimp {
     const NAME: &'static str = "cpgimp";
 
+    type Cache = GimpCache;
+
     #[inline(always)]
-    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> GimpCache {
         let l0 = domain.initial_half_width;
         let f = domain.deformation_gradient;
-        gimp_stencil(grid, domain.position, [l0[0] * f[0], l0[1] * f[3]], axisymmetric, out)
+        gimp_axes(grid, domain.position, [l0[0] * f[0], l0[1] * f[3]], axisymmetric)
+    }
+
+    #[inline(always)]
+    fn expand(grid: &GridGeometry, cache: &GimpCache, _: &ParticleDomain, _: bool, out: &mut Stencil) {
+        gimp_tensor(grid, cache, out)
     }
 }
 

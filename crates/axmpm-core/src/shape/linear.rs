@@ -11,6 +11,18 @@ pub struct Linear;
 impl ShapeFunction for Linear {
     const NAME: &'static str = "linear";
 
+    /// Nothing is cached: the whole stencil is cheap (linear) or follows the corners, which
+    /// move during the step (CPDI2), so `expand` evaluates it from the domain.
+    type Cache = ();
+
+    #[inline(always)]
+    fn prepare(_: &GridGeometry, _: &ParticleDomain, _: bool) {}
+
+    #[inline(always)]
+    fn expand(grid: &GridGeometry, _: &(), domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+        Self::stencil_at(grid, domain, axisymmetric, out)
+    }
+
     /// The 4 nodes of the particle's cell, in the order of [`bilinear_nodes`] (row by row),
     /// with the same arithmetic, so the two agree bit for bit for any point inside the grid.
     ///

@@ -104,9 +104,23 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// Whether particles carry domain corners that move with the grid (CPDI2).
     const USES_CORNERS: bool = false;
 
+    /// What the solver keeps per particle between the passes of one step, so that the
+    /// expensive part of the stencil is computed once per step (GIMP: the 1D weights).
+    type Cache: Copy + Default + Send + Sync + 'static;
+
+    /// The cacheable part of the stencil of a particle domain.
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> Self::Cache;
+
+    /// Writes the stencil from `cache`, made by [`ShapeFunction::prepare`] for the same
+    /// domain at the start of the step (schemes without a cache evaluate `domain`).
+    fn expand(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil);
+
     /// Writes S_ip and ∇S_ip of a particle domain into `out` (cleared first).
     /// `axisymmetric` asks for domains truncated at the axis r = 0.
-    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil);
+    #[inline(always)]
+    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+        Self::expand(grid, &Self::prepare(grid, domain, axisymmetric), domain, axisymmetric, out)
+    }
 
     /// [`ShapeFunction::stencil_at`] for particle `p` of `particles`.
     #[inline(always)]

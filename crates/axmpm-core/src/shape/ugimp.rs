@@ -26,19 +26,32 @@ pub struct UGimp;
 impl ShapeFunction for UGimp {
     const NAME: &'static str = "ugimp";
 
+    type Cache = GimpCache;
+
     #[inline(always)]
-    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
-        gimp_stencil(grid, domain.position, domain.initial_half_width, axisymmetric, out)
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> GimpCache {
+        gimp_axes(grid, domain.position, domain.initial_half_width, axisymmetric)
+    }
+
+    #[inline(always)]
+    fn expand(grid: &GridGeometry, cache: &GimpCache, _: &ParticleDomain, _: bool, out: &mut Stencil) {
+        gimp_tensor(grid, cache, out)
     }
 }
 
-/// Nodes and 1D weights of one direction: up to 4 (node index, S, dS/dx in physical units).
-struct Axis1d {
-    len: usize,
-    index: [usize; 4],
+/// Nodes and 1D weights of one direction: up to 4 consecutive nodes `first .. first + len`
+/// with S and dS/dx (physical units). Compact, because the solver keeps one pair per particle
+/// between the passes of a step (see [`GimpCache`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Axis1d {
+    first: u32,
+    len: u8,
     weight: [f64; 4],
     derivative: [f64; 4],
 }
+
+/// The two directions' 1D GIMP weights of one particle: everything its 2D stencil is made of.
+pub type GimpCache = [Axis1d; 2];
 
 /// 1D GIMP nodes of one direction: `l` the particle position in cell units, `lam` the
 /// half-width in cell units (already in [0, 1]), `n` the number of nodes in that direction.
@@ -51,7 +64,7 @@ struct Axis1d {
 /// cells of the two domain ends.
 #[inline(always)]
 fn axis_weights(l: f64, lam: f64, n: usize, ih: f64) -> Axis1d {
-    let mut ax = Axis1d { len: 0, index: [0; 4], weight: [0.0; 4], derivative: [0.0; 4] };
+    let mut ax = Axis1d::default();
     let mut w = [0.0; 4];
     let mut d = [0.0; 4];
     let k0: i64;
@@ -102,21 +115,26 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64) -> Axis1d {
         if i < 0 || i >= n as i64 || (w[c] <= 0.0 && lam > 0.0) {
             continue;
         }
-        ax.index[ax.len] = i as usize;
-        ax.weight[ax.len] = w[c];
-        ax.derivative[ax.len] = d[c];
+        if ax.len == 0 {
+            ax.first = i as u32;
+        }
+        // Zero weights and off-grid nodes only occur at the ends, so the kept nodes are consecutive.
+        debug_assert_eq!(i as u32, ax.first + ax.len as u32);
+        let k = ax.len as usize;
+        ax.weight[k] = w[c];
+        ax.derivative[k] = d[c];
         ax.len += 1;
     }
     ax
 }
 
-/// GIMP stencil of a particle at `x` with half-widths `half` (physical units). Shared by
-/// uGIMP and cpGIMP. Half-widths are clamped to [0, h]; in axisymmetry the radial one is
-/// further shrunk to the distance R_p − origin_r from the axis (see the module docs).
+/// 1D GIMP weights of both directions for a particle at `x` with half-widths `half`
+/// (physical units). Shared by uGIMP and cpGIMP. Half-widths are clamped to [0, h]; in
+/// axisymmetry the radial one is further shrunk to the distance R_p − origin_r from the axis
+/// (see the module docs).
 #[inline(always)]
 #[allow(clippy::manual_clamp)] // `clamp` would propagate NaN; see below
-pub(crate) fn gimp_stencil(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool, out: &mut Stencil) {
-    out.clear();
+pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool) -> GimpCache {
     let ih = grid.inverse_cell_size;
     let l = grid.local(x);
     // `max` before `min` maps NaN to 0 (a point particle) instead of propagating it.
@@ -125,16 +143,29 @@ pub(crate) fn gimp_stencil(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axi
         // R_p − origin_r in cell units is l[0].
         lam[0] = lam[0].min(l[0].max(0.0));
     }
-    let ax = axis_weights(l[0], lam[0], grid.nodes[0], ih);
-    let ay = axis_weights(l[1], lam[1], grid.nodes[1], ih);
-    for b in 0..ay.len {
-        let row = ay.index[b] * grid.nodes[0];
+    [axis_weights(l[0], lam[0], grid.nodes[0], ih), axis_weights(l[1], lam[1], grid.nodes[1], ih)]
+}
+
+/// The 2D stencil as the tensor product of the 1D weights: S = S_x S_y,
+/// ∇S = (S_x' S_y, S_x S_y').
+#[inline(always)]
+pub(crate) fn gimp_tensor(grid: &GridGeometry, axes: &GimpCache, out: &mut Stencil) {
+    out.clear();
+    let [ax, ay] = axes;
+    for b in 0..ay.len as usize {
+        let row = (ay.first as usize + b) * grid.nodes[0];
         let (wy, dy) = (ay.weight[b], ay.derivative[b]);
-        for a in 0..ax.len {
+        for a in 0..ax.len as usize {
             let (wx, dx) = (ax.weight[a], ax.derivative[a]);
-            out.push(row + ax.index[a], wx * wy, [dx * wy, wx * dy]);
+            out.push(row + ax.first as usize + a, wx * wy, [dx * wy, wx * dy]);
         }
     }
+}
+
+/// GIMP stencil of a particle at `x` with half-widths `half` (physical units).
+#[cfg(test)]
+pub(crate) fn gimp_stencil(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool, out: &mut Stencil) {
+    gimp_tensor(grid, &gimp_axes(grid, x, half, axisymmetric), out)
 }
 
 #[cfg(test)]
