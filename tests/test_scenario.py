@@ -120,6 +120,7 @@ FIELD_CASES = [
     ("simulation.formulation=planestrain", "simulation.formulation", "did you mean 'plane_strain'"),
     ("simulation.shape_function=cpdi", "simulation.shape_function", "did you mean 'cpdi2'"),
     ("simulation.update_scheme=usf", "simulation.update_scheme", "'musl' or 'usl'"),
+    ("simulation.volumetric_averaging=fbar", "simulation.volumetric_averaging", "'none' or 'cell'"),
     ("simulation.gravity=[0, -9.81, 0]", "simulation.gravity", "exactly 2"),
     ("grid.extent=[0.1]", "grid.extent", "exactly 2"),
     ("simulation.end_time=soon", "simulation.end_time", "valid number"),

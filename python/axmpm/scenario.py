@@ -140,6 +140,11 @@ class Simulation(_Section):
     damping: _bounded(0.0, 1.0, hi_open=True) = Field(  # type: ignore[valid-type]
         0.0, description="Cundall local damping coefficient"
     )
+    volumetric_averaging: Literal["none", "cell"] = Field(
+        "none",
+        description="anti-locking: 'cell' replaces each particle's volumetric strain rate by "
+        "the volume-weighted mean of its background cell (mean dilatation / F-bar)",
+    )
     stop_at_rest: _bounded(0.0, 1.0, hi_open=True) = Field(  # type: ignore[valid-type]
         0.0,
         description="stop (status completed) at the first output time when the kinetic energy is "

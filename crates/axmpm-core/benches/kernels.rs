@@ -105,6 +105,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
             update_scheme: UpdateScheme::Musl,
             flip_fraction: 0.99,
             damping: 0.0,
+            volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),
         },
         grid: GridConfig { origin: [0.0, 0.0], extent: [0.2, 0.1], cell_size: 0.001 },

@@ -54,9 +54,25 @@ pub struct SimulationConfig {
     pub flip_fraction: f64,
     #[serde(default)]
     pub damping: f64,
+    /// Anti-locking: replace each particle's volumetric strain rate by the volume average of
+    /// its background cell (mean dilatation / F-bar; see `solver`).
+    #[serde(default)]
+    pub volumetric_averaging: VolumetricAveraging,
     /// Front-end keys the engine does not need (checkpointing, stop criteria, ...).
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
+}
+
+/// How the volumetric part of the velocity gradient is computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VolumetricAveraging {
+    /// Each particle's own velocity gradient (standard MPM).
+    #[default]
+    None,
+    /// The volume-weighted mean over the particles of the background cell that contains the
+    /// particle (Nagtegaal, Parks & Rice 1974; Coombs et al. 2018 for MPM).
+    Cell,
 }
 
 fn default_shape() -> ShapeFunctionKind {

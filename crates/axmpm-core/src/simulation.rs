@@ -157,6 +157,7 @@ impl Simulation {
             damping: s.damping,
             scheme: s.update_scheme,
             mass_threshold: 1e-12 * mean_mass,
+            volumetric_averaging: s.volumetric_averaging,
         };
         let constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         let mut state = State {

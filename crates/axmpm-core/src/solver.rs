@@ -20,7 +20,7 @@
 use rayon::prelude::*;
 
 use crate::boundary::Constraints;
-use crate::config::UpdateScheme;
+use crate::config::{UpdateScheme, VolumetricAveraging};
 use crate::formulation::Formulation;
 use crate::grid::{GridFields, GridGeometry};
 use crate::material::{Kinematics, Material};
@@ -70,6 +70,11 @@ pub struct Scratch {
     /// step in particle → grid and reused by grid → particle and the particle update.
     pub stencil_cache: Option<Box<dyn std::any::Any + Send + Sync>>,
     pub displacement: Vec<[f64; 2]>,
+    /// Cell averaging only: each particle's velocity gradient, and per background cell the
+    /// particle volume and the volume-weighted mean dilatation (see `update_particles`).
+    pub velocity_gradient: Vec<[f64; 5]>,
+    pub cell_volume: Vec<f64>,
+    pub cell_dilatation: Vec<f64>,
 }
 
 /// Parameters of the step that do not change during a run.
@@ -80,6 +85,7 @@ pub struct StepParameters {
     pub scheme: UpdateScheme,
     /// Nodes lighter than this carry no velocity (avoids dividing by vanishing GIMP masses).
     pub mass_threshold: f64,
+    pub volumetric_averaging: VolumetricAveraging,
 }
 
 /// Everything the step mutates or reads.
@@ -152,6 +158,12 @@ impl State {
     pub fn allocate_scratch(&mut self) {
         let n = self.particles.len();
         self.scratch.displacement = vec![[0.0; 2]; n];
+        if self.parameters.volumetric_averaging == VolumetricAveraging::Cell {
+            let cells = self.grid.cells[0] * self.grid.cells[1];
+            self.scratch.velocity_gradient = vec![[0.0; 5]; n];
+            self.scratch.cell_volume = vec![0.0; cells];
+            self.scratch.cell_dilatation = vec![0.0; cells];
+        }
         self.lanes = (0..LANES).map(|_| Lane::new(self.grid.num_nodes())).collect();
     }
 }
@@ -434,27 +446,17 @@ struct ParticleUpdate<'a> {
     corners: Option<&'a mut [[f64; 2]; 4]>,
 }
 
-/// Velocity gradient (from the stencil at the start-of-step position and domain), deformation
-/// gradient, CPDI corners, position, volume and stress of one particle; returns a failure if
-/// its new state is invalid.
+/// Velocity gradient of one particle from the stencil at its start-of-step position and
+/// domain: L_ij = Σ_i v_i ∂S_ip/∂x_j, and the hoop rate L_θθ = Σ v_r,i S_ip / R_p (0 in plane
+/// strain). Stored as [L11, L12, L21, L22, L33].
 #[inline(always)]
-fn update_particle<F: Formulation, S: ShapeFunction>(
+fn velocity_gradient<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
-    p: usize,
-    u: ParticleUpdate,
+    domain: &ParticleDomain,
     cache: &S::Cache,
     st: &mut Stencil,
-) -> Option<Failure> {
-    let grid = &inputs.grid;
-    let dt = inputs.dt;
-    let domain = ParticleDomain {
-        position: *u.position,
-        initial_half_width: inputs.initial_half_width[p],
-        deformation_gradient: u.f,
-        corners: u.corners.as_deref(),
-    };
-    S::expand(grid, cache, &domain, F::AXISYMMETRIC, st);
-    // L_ij = Σ_i v_i ∂S_ip/∂x_j, and the hoop rate L_θθ = Σ v_r,i S_ip / R_p (0 in plane strain).
+) -> [f64; 5] {
+    S::expand(&inputs.grid, cache, domain, F::AXISYMMETRIC, st);
     let mut l = [0.0; 5];
     let mut vr = 0.0;
     for e in 0..st.len {
@@ -466,8 +468,46 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
         l[3] += v[1] * dw[1];
         vr += v[0] * st.weight[e];
     }
-    l[4] = vr * F::hoop_factor(*u.position);
+    l[4] = vr * F::hoop_factor(domain.position);
+    l
+}
 
+/// Volumetric strain rate tr L (the hoop rate included; it is zero in plane strain).
+#[inline(always)]
+fn dilatation(l: &[f64; 5]) -> f64 {
+    l[0] + l[3] + l[4]
+}
+
+/// Replaces the volumetric part of L by `mean_dilatation`, spread equally over the normal
+/// components that can stretch: the two in-plane ones in plane strain (L33 = 0 is kept), and
+/// the in-plane and hoop ones in axisymmetry. The rate form of F-bar (mean dilatation,
+/// Nagtegaal, Parks & Rice 1974; for MPM with the background cell as the averaging domain,
+/// Coombs, Charlton, Cortis & Augarde 2018, CMAME 333): the isochoric part stays the
+/// particle's own, so plastic flow with zero dilation (ψ = 0) is not over-constrained by the
+/// one-velocity-field-per-cell kinematics (volumetric locking).
+#[inline(always)]
+fn with_mean_dilatation<F: Formulation>(mut l: [f64; 5], mean_dilatation: f64) -> [f64; 5] {
+    let components = if F::AXISYMMETRIC { 3.0 } else { 2.0 };
+    let correction = (mean_dilatation - dilatation(&l)) / components;
+    l[0] += correction;
+    l[3] += correction;
+    if F::AXISYMMETRIC {
+        l[4] += correction;
+    }
+    l
+}
+
+/// Deformation gradient, CPDI corners, position, volume and stress of one particle from its
+/// velocity gradient `l`; returns a failure if its new state is invalid.
+#[inline(always)]
+fn update_particle<F: Formulation, S: ShapeFunction>(
+    inputs: &UpdateInputs,
+    p: usize,
+    u: ParticleUpdate,
+    l: [f64; 5],
+) -> Option<Failure> {
+    let grid = &inputs.grid;
+    let dt = inputs.dt;
     // F ← (I + Δt L) F in-plane; F33 ← (1 + Δt L33) F33.
     let f = u.f;
     let f_old = *f;
@@ -509,13 +549,26 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     }
 }
 
+/// Where the velocity gradient of each particle comes from in the update pass.
+#[derive(Clone, Copy)]
+enum GradientSource<'a> {
+    /// Computed from the stencil in the same pass (no averaging).
+    Stencil,
+    /// Precomputed per particle, with the volumetric part replaced by the mean dilatation of
+    /// the particle's cell.
+    CellAveraged { gradients: &'a [[f64; 5]], cell_mean_dilatation: &'a [f64] },
+}
+
 /// Velocity gradient, deformation gradient, volume, stress and position of every particle, in
 /// one pass (each particle reads its start-of-step position and domain before moving them).
+/// With cell averaging a first pass stores every velocity gradient and sums the cells.
 fn update_particles<F: Formulation, S: ShapeFunction>(
     state: &mut State,
     dt: f64,
     cache: &[S::Cache],
 ) -> Result<(), Failure> {
+    let averaging = state.parameters.volumetric_averaging == VolumetricAveraging::Cell;
+    let Scratch { displacement, velocity_gradient: gradients, cell_volume, cell_dilatation, .. } = &mut state.scratch;
     let particles = &mut state.particles;
     // At least one state slot per particle (set up in `Simulation::build`), so the zipped
     // state chunks below stay aligned with the particles.
@@ -537,7 +590,21 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
         initial_volume: &particles.initial_volume,
         initial_half_width: &particles.initial_half_width,
         velocity: &particles.velocity,
-        displacement: &state.scratch.displacement,
+        displacement,
+    };
+    let source = if averaging {
+        cell_averaged_gradients::<F, S>(&inputs, particles, cache, gradients, cell_volume, cell_dilatation);
+        GradientSource::CellAveraged { gradients, cell_mean_dilatation: cell_dilatation }
+    } else {
+        GradientSource::Stencil
+    };
+    let grid = state.grid;
+    let gradient = |p: usize, domain: &ParticleDomain, c: &S::Cache, st: &mut Stencil| match source {
+        GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, domain, c, st),
+        GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
+            let [i, j] = grid.cell_of(domain.position);
+            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[j * grid.cells[0] + i])
+        }
     };
     let state_len = |p: usize| inputs.materials[inputs.material_ids[p] as usize].state_names().len();
     let common = particles
@@ -554,8 +621,15 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
             .enumerate()
             .with_min_len(256)
             .map_init(Stencil::default, |st, (p, ((((((f, stress), volume), position), s), c), corners))| {
+                let domain = ParticleDomain {
+                    position: *position,
+                    initial_half_width: inputs.initial_half_width[p],
+                    deformation_gradient: f,
+                    corners: Some(corners),
+                };
+                let l = gradient(p, &domain, c, st);
                 let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: Some(corners) };
-                update_particle::<F, S>(&inputs, p, u, c, st)
+                update_particle::<F, S>(&inputs, p, u, l)
             })
             .reduce(|| None, first_failure)
     } else {
@@ -563,10 +637,55 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
             .enumerate()
             .with_min_len(256)
             .map_init(Stencil::default, |st, (p, (((((f, stress), volume), position), s), c))| {
+                let domain = ParticleDomain {
+                    position: *position,
+                    initial_half_width: inputs.initial_half_width[p],
+                    deformation_gradient: f,
+                    corners: None,
+                };
+                let l = gradient(p, &domain, c, st);
                 let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: None };
-                update_particle::<F, S>(&inputs, p, u, c, st)
+                update_particle::<F, S>(&inputs, p, u, l)
             })
             .reduce(|| None, first_failure)
     };
     failure.map_or(Ok(()), Err)
+}
+
+/// First pass of the cell-averaged update: every particle's velocity gradient into
+/// `gradients`, then the volume-weighted mean dilatation of each background cell,
+/// Σ_p V_p tr L_p / Σ_p V_p over the particles whose centre lies in the cell, into
+/// `cell_dilatation`. The cell sums run in particle order on one thread, so they do not
+/// depend on the thread count (one add per particle; cheap next to the stencil work).
+fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
+    inputs: &UpdateInputs,
+    particles: &Particles,
+    cache: &[S::Cache],
+    gradients: &mut [[f64; 5]],
+    cell_volume: &mut [f64],
+    cell_dilatation: &mut [f64],
+) {
+    gradients
+        .par_iter_mut()
+        .zip(cache.par_iter())
+        .enumerate()
+        .with_min_len(256)
+        .for_each_init(Stencil::default, |st, (p, (l, c))| {
+            let domain = ParticleDomain::of(particles, p);
+            *l = velocity_gradient::<F, S>(inputs, &domain, c, st);
+        });
+    let grid = &inputs.grid;
+    cell_volume.fill(0.0);
+    cell_dilatation.fill(0.0);
+    for ((x, &v), l) in particles.position.iter().zip(&particles.volume).zip(gradients.iter()) {
+        let [i, j] = grid.cell_of(*x);
+        let cell = j * grid.cells[0] + i;
+        cell_volume[cell] += v;
+        cell_dilatation[cell] += v * dilatation(l);
+    }
+    for (d, &v) in cell_dilatation.iter_mut().zip(cell_volume.iter()) {
+        if v > 0.0 {
+            *d /= v;
+        }
+    }
 }

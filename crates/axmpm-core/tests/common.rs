@@ -40,6 +40,7 @@ pub fn block(
             update_scheme: UpdateScheme::Musl,
             flip_fraction: 1.0,
             damping: 0.0,
+            volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),
         },
         grid: GridConfig { origin: [0.0, 0.0], extent: [2.0, 2.0], cell_size: 0.1 },
