@@ -138,3 +138,22 @@ def test_tiny_validate_run(tmp_path):
     assert case["initial_radius"] < case["runout_radius"] < 2 * case["initial_radius"]
     assert (out / "report.md").exists() and (out / "profiles.png").exists() and (out / "laws.png").exists()
     assert "cells per initial radius" in (out / "report.md").read_text()
+
+
+@pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
+def test_one_grain_runout_is_where_a_cone_is_one_grain_thick(formulation):
+    from axmpm.collapse import GRAIN_DIAMETER, runout_radius_at_thickness
+
+    g = geom(formulation)
+    H0, Rc = 0.024, 0.05
+    x, v0, m = lattice(lambda r: H0 * (1 - r / Rc), Rc, formulation)
+    expected = Rc * (1 - GRAIN_DIAMETER / H0)
+    met = particle_metrics(x, v0, m, g)
+    assert met["runout_radius_one_grain"] == pytest.approx(expected, abs=0.5e-3)
+    assert met["runout_normalised_one_grain"] == pytest.approx((expected - 0.03) / 0.03, abs=0.02)
+    # a thicker threshold moves the edge inwards along the slope
+    inner = runout_radius_at_thickness(x, v0, g, thickness=0.012)
+    assert inner == pytest.approx(Rc * 0.5, abs=0.5e-3)
+    # a block thinner than the threshold everywhere has no deposit edge beyond the axis
+    xb, vb, _ = lattice(lambda r: S, 0.03, formulation)  # one 1 mm layer
+    assert runout_radius_at_thickness(xb, vb, g) == 0.0

@@ -70,6 +70,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "axmpm.bench",
     "axmpm.sweep",
     "axmpm.validate",
+    "axmpm.convergence",
     "axmpm.calibrate",
 )
 

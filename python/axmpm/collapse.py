@@ -20,6 +20,15 @@ Analysis rules (documented in docs/validation.md):
   run of occupied bins that starts at the axis; R∞ is its outermost particle plus half a
   spacing. Particles beyond the first empty bin (strays, thrown grains) are ignored. The
   radius that encloses 99 % of the mass is reported alongside (``runout_radius_99``).
+  This edge follows the thinnest layer the mesh can carry, so it moves out with every
+  refinement (docs/validation.md, mesh convergence).
+* **Runout at one grain, R∞(d)**: where the solid-thickness profile, in bins of fixed width
+  ``EDGE_BIN_WIDTH`` (2 mm, or one cell if coarser), first falls below one grain diameter
+  d (``GRAIN_DIAMETER``, 1.15 mm: the glass beads of Lajeunesse et al. 2004 as tabulated by
+  KK, docs/validation-sources.md §2, medium confidence), interpolated linearly between bin
+  centres. A layer thinner than one grain is not a deposit an experimenter could see, and
+  this rule has a physical length scale, so it converges with the mesh where the particle
+  edge does not.
 * **Final height H∞**: the deposit surface at the axis: a robust (Theil–Sen) line through
   the solid-thickness profile within r < max(R_i/4, 5 cells), evaluated at r = 0. A flat
   top gives its height, a cone its apex; thin spikes and cell-scale striations (seen at
@@ -42,6 +51,7 @@ __all__ = [
     "geometry_from_scenario",
     "surface_profile",
     "runout_radius",
+    "runout_radius_at_thickness",
     "final_height",
     "column_tops",
     "height_percentile",
@@ -55,6 +65,11 @@ __all__ = [
 
 #: Fraction of a particle layer a bin must hold to count as occupied (runout rule).
 OCCUPIED_LAYERS = 0.25
+#: Grain diameter (m) for the one-grain runout: the Lajeunesse et al. (2004) glass beads,
+#: 1.15 mm (docs/validation-sources.md §2; medium confidence).
+GRAIN_DIAMETER = 1.15e-3
+#: Bin width (m) of the thickness profile for the one-grain runout (one cell if coarser).
+EDGE_BIN_WIDTH = 2e-3
 #: Central region for H∞, as a fraction of R_i.
 CENTRAL_FRACTION = 0.25
 #: Mass-weighted percentile of particle heights used for H∞.
@@ -168,6 +183,32 @@ def runout_radius(
     return float(r[inside].max() + 0.5 * geom.spacing)
 
 
+def runout_radius_at_thickness(
+    x: NDArray[np.float64], volume0: NDArray[np.float64], geom: ColumnGeometry,
+    thickness: float = GRAIN_DIAMETER, bin_width: float = EDGE_BIN_WIDTH,
+) -> float:
+    """R∞(d): the radius where the solid thickness first falls below ``thickness``.
+
+    Thickness profile as in :func:`surface_profile`, in bins of ``max(bin_width, cell)``
+    from the axis; the crossing is interpolated linearly between the centres of the last
+    bin at or above ``thickness`` and the first bin below it (0 if the bin at the axis is
+    already thinner).
+    """
+    w = max(bin_width, geom.cell_size)
+    r = x[:, 0] - geom.axis
+    n = max(1, int(math.ceil(float(r.max(initial=0.0)) / w)) + 2)
+    edges = np.arange(n + 1) * w
+    idx = np.clip(np.searchsorted(edges, r, side="right") - 1, 0, n - 1)
+    h = np.bincount(idx, weights=volume0, minlength=n) / _bin_area(edges, geom.formulation)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    thin = np.flatnonzero(h < thickness)
+    k = int(thin[0]) if thin.size else n - 1
+    if k == 0:
+        return 0.0
+    h0, h1 = h[k - 1], h[k]
+    return float(centres[k - 1] + (h0 - thickness) / (h0 - h1) * w)
+
+
 def mass_radius(x: NDArray[np.float64], mass: NDArray[np.float64], geom: ColumnGeometry,
                 fraction: float = 0.99) -> float:
     """Radius enclosing ``fraction`` of the mass (plus half a particle spacing)."""
@@ -257,6 +298,7 @@ def particle_metrics(
     the particles' initial volumes (mass / initial density)."""
     R_i, H_i = geom.radius, geom.height
     R_inf = runout_radius(x, volume0, geom)
+    R_grain = runout_radius_at_thickness(x, volume0, geom)
     H_inf = final_height(x, volume0, geom)
     return {
         "initial_radius": R_i,
@@ -266,6 +308,8 @@ def particle_metrics(
         "final_height": H_inf,
         "runout_normalised": (R_inf - R_i) / R_i,
         "final_height_normalised": H_inf / R_i,
+        "runout_radius_one_grain": R_grain,
+        "runout_normalised_one_grain": (R_grain - R_i) / R_i,
         "runout_radius_99": mass_radius(x, mass, geom, 0.99),
         "final_height_p95": height_percentile(x, mass, geom),
         "max_particle_radius": float((x[:, 0] - geom.axis).max() + 0.5 * geom.spacing),
@@ -281,7 +325,8 @@ def deposit_metrics(run_dir: str | Path) -> dict[str, Any]:
     Keys: ``initial_radius``, ``initial_height``, ``aspect_ratio``, ``runout_radius``,
     ``final_height`` (m), ``runout_normalised`` = (R∞ − R_i)/R_i,
     ``final_height_normalised`` = H∞/R_i, ``time`` (of the frame used), plus
-    ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
+    ``runout_radius_one_grain`` and ``runout_normalised_one_grain`` (R∞ at one grain
+    diameter of thickness), ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
     ``cells_per_radius``, ``frame``, ``status``. Geometry comes from the scenario's first body.
     """
     from .output import load_run

@@ -1,0 +1,81 @@
+"""axmpm convergence: Richardson extrapolation and the command end to end."""
+
+import json
+import math
+import subprocess
+import sys
+
+import pytest
+
+from axmpm.convergence import constant_ratio, richardson
+
+
+@pytest.mark.parametrize("order", [1.0, 1.5, 2.0])
+def test_richardson_recovers_order_and_limit_of_a_power_law(order):
+    limit, c = -0.1, 0.8
+    hs = [0.004, 0.002, 0.001, 0.0005]
+    values = [limit + c * h**order for h in hs]
+    est = richardson(values, 2.0)
+    assert est["converging"]
+    assert est["order"] == pytest.approx(order, rel=1e-9)
+    assert est["extrapolated"] == pytest.approx(limit, abs=1e-12)
+
+
+def test_richardson_flags_growth_and_oscillation():
+    assert richardson([0.43, 0.59, 0.74], 2.0)["converging"] is False  # steps do not shrink
+    assert richardson([0.40, 0.50, 0.45], 2.0)["converging"] is False  # sign change
+    assert richardson([0.4, 0.5], 2.0)["converging"] is None  # two meshes: no estimate
+
+
+def test_constant_ratio():
+    assert constant_ratio([0.002, 0.001, 0.0005]) == pytest.approx(2.0)
+    assert constant_ratio([0.003, 0.002, 0.001]) is None
+    assert math.isclose(constant_ratio([0.004, 0.002, 0.001, 0.0005]), 2.0)
+
+
+def test_command_runs_three_meshes_and_writes_report(tmp_path):
+    out = tmp_path / "conv"
+    cmd = [sys.executable, "-m", "axmpm", "convergence", "--cases", "a056",
+           "--cell-sizes", "0.006,0.003,0.0015", "--set", "end_time=0.04", "--jobs", "1", "--out", str(out)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    data = json.loads((out / "convergence.json").read_text())
+    assert data["refinement_ratio"] == pytest.approx(2.0)
+    (case,) = data["cases"]
+    assert [m["cell_size"] for m in case["meshes"]] == [0.006, 0.003, 0.0015]
+    assert [round(m["cells_per_radius"]) for m in case["meshes"]] == [5, 10, 20]
+    for key in ("runout_edge", "runout_one_grain", "final_height"):
+        assert set(case["richardson"][key]) == {"converging", "order", "extrapolated"}
+    assert (out / "convergence.md").read_text().count("| a056 |") == 4
+    assert (out / "convergence.png").stat().st_size > 0
+    assert (out / "h1.5mm" / "cases" / "a056" / "particles.pvd").exists()
+
+
+@pytest.mark.parametrize("args,text", [
+    (["--cell-sizes", "0.002,abc"], "--cell-sizes"),
+    (["--cell-sizes", "0.002,-0.001"], "--cell-sizes"),
+    (["--cases", "a99"], "unknown case"),
+    (["--set", "cell_size=0.001"], "--cell-sizes"),
+])
+def test_bad_arguments_exit_2_without_traceback(tmp_path, args, text):
+    proc = subprocess.run([sys.executable, "-m", "axmpm", "convergence", "--out", str(tmp_path / "x"), *args],
+                          capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert text in proc.stderr + proc.stdout
+    assert "Traceback" not in proc.stderr
+
+
+def test_completed_meshes_are_reused(tmp_path):
+    out = tmp_path / "conv"
+    base = [sys.executable, "-m", "axmpm", "convergence", "--cases", "a056", "--set", "end_time=0.02",
+            "--jobs", "1", "--out", str(out)]
+    first = subprocess.run(base + ["--cell-sizes", "0.006,0.003"], capture_output=True, text=True, timeout=600)
+    assert first.returncode == 0, first.stderr
+    marker = out / "h6mm" / "cases" / "a056" / "summary.json"
+    before = marker.stat().st_mtime_ns
+    second = subprocess.run(base + ["--cell-sizes", "0.006,0.003,0.0015"], capture_output=True, text=True,
+                            timeout=600)
+    assert second.returncode == 0, second.stderr
+    assert marker.stat().st_mtime_ns == before  # 6 mm not run again
+    data = json.loads((out / "convergence.json").read_text())
+    assert [m["cell_size"] for m in data["cases"][0]["meshes"]] == [0.006, 0.003, 0.0015]
