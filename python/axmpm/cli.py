@@ -135,6 +135,9 @@ def _cmd_demo(args: argparse.Namespace) -> int:
             c, lube = res.case, res.case["laws"]["lube2004"]
             print(f"runout (R_inf - R_i)/R_i = {c['runout_normalised']:.3f} vs Lube et al. 2004 "
                   f"{lube['runout_normalised']:.3f} ({100 * lube['runout_normalised_rel_diff']:+.0f} %)")
+            print(f"runout where the deposit is one grain (1.15 mm) thick = "
+                  f"{c['runout_normalised_one_grain']:.3f} "
+                  f"({100 * c['runout_one_grain_rel_diff']['lube2004']:+.0f} %)")
             print(f"final height H_inf/R_i = {c['final_height_normalised']:.3f} vs Lube et al. 2004 "
                   f"{lube['final_height_normalised']:.3f} ({100 * lube['final_height_rel_diff']:+.0f} %)")
             print(f"figures and summary: {res.figure}, {res.report}")
