@@ -1454,7 +1454,7 @@ mod tests {
     /// fresh (never separated) particle under the same compression, and K Δε_v for an isotropic one.
     #[test]
     fn compression_beyond_closure_builds_elastic_stress_as_from_a_fresh_state() {
-        let r = 1e-4;
+        let r: f64 = 1e-4;
         for &(stretch, compress) in &[
             ([0.0, 0.0, 0.0, r, 0.0], [0.0, 0.0, 0.0, -r, 0.0]),
             ([r, 0.0, 0.0, r, r], [-r, 0.0, 0.0, -r, -r]),
@@ -1463,7 +1463,7 @@ mod tests {
             let tr_s = stretch[0] + stretch[3] + stretch[4];
             let tr_c = -(compress[0] + compress[3] + compress[4]);
             // Compress back exactly the opened volume (whole steps), then 50 steps more.
-            let back = (150.0 * tr_s / tr_c as f64).round() as usize;
+            let back = (150.0 * tr_s / tr_c).round() as usize;
             assert!((back as f64 * tr_c - 150.0 * tr_s).abs() < 1e-12, "choose rates with whole steps");
             let m = mc_rc(30.0, 0.0, 0.0, 0.0);
             let mut s = [0.0; 4];
