@@ -105,6 +105,11 @@ def test_builder_geometry_walls_and_friction():
     assert geometry_from_scenario(collapse_scenario(5.4)).height == pytest.approx(0.162)
 
 
+def test_builder_recompaction_flag():
+    assert collapse_scenario(0.8).materials["sand"].recompaction is False  # the seed set-up
+    assert collapse_scenario(0.8, recompaction=True).materials["sand"].recompaction is True
+
+
 def test_examples_match_builder():
     from axmpm.scenario import Scenario
 

@@ -92,3 +92,59 @@ def test_material_is_validated_with_scenario_models():
         material_point(mc(), np.zeros((2, 4)), 1e-3)
     with pytest.raises(ValueError, match="dt"):
         material_point(mc(), np.zeros((2, 5)), 0.0)
+
+
+# --------------------------------------------------------------------------- recompaction
+
+K_BULK = E / (3 * (1 - 2 * NU))
+
+
+def stretch_then_compress(extra_steps: int = 0) -> np.ndarray:
+    """Axisymmetric: 100 steps of radial + hoop stretch with axial shortening (tr > 0), then the
+    same volume back by an axial compression (different deviatoric path), then ``extra_steps``
+    more of it."""
+    up = np.tile([1.0, 0.0, 0.0, -0.5, 1.0], (100, 1))  # tr = 1.5 per unit time
+    down = np.tile([0.0, 0.0, 0.0, -1.5, 0.0], (100 + extra_steps, 1))
+    return np.vstack([up, down])
+
+
+@pytest.mark.parametrize("psi", [0.0, 10.0])
+def test_recompaction_closes_the_opening_stress_free(psi):
+    dt = 1e-4
+    on = material_point({**mc(psi=psi), "recompaction": True}, stretch_then_compress(), dt)
+    assert on.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain"]
+    opening = on.state("opening_volumetric_strain")
+    assert opening[99] == pytest.approx(100 * 1.5 * dt, rel=1e-9)  # all of the stretch opened
+    assert np.all(opening >= 0.0)
+    assert opening[-1] <= 1e-15 and abs(on.state("plastic_volumetric_strain")[-1]) <= 1e-15
+    np.testing.assert_allclose(on.stresses, 0.0, atol=1e-6)  # stress-free all the way
+    # Off (the previous behaviour): the compression back builds ~K × 0.015 of pressure.
+    off = material_point(mc(psi=psi), stretch_then_compress(), dt)
+    assert off.state_names == ["plastic_shear_strain", "plastic_volumetric_strain"]
+    assert -off.stresses[-1, :3].mean() > 0.3 * K_BULK * 100 * 1.5 * dt
+
+
+def test_recompaction_then_compression_is_elastic_from_zero():
+    dt = 1e-4
+    extra = 5  # 5 steps of axial compression 1.5e-4 each beyond closure: confined, elastic
+    on = material_point({**mc(), "recompaction": True}, stretch_then_compress(extra), dt)
+    fresh = material_point({**mc(), "recompaction": True}, np.tile([0.0, 0.0, 0.0, -1.5, 0.0], (extra, 1)), dt)
+    np.testing.assert_allclose(on.stresses[-1], fresh.stresses[-1], rtol=1e-9, atol=1e-6)
+    assert fresh.stresses[-1, 1] == pytest.approx(-(LAM + 2 * MU) * extra * 1.5 * dt, rel=1e-9)
+
+
+def test_recompaction_must_be_a_boolean():
+    with pytest.raises(ScenarioError, match="recompaction"):
+        material_point({**mc(), "recompaction": "yes"}, np.zeros((1, 5)), 1e-3)
+
+
+def test_front_end_and_engine_agree_on_the_recompaction_default():
+    import json
+
+    from axmpm import _core
+    from axmpm.scenario import RECOMPACTION_DEFAULT
+
+    assert validate_material(mc()).recompaction is RECOMPACTION_DEFAULT
+    # The engine's own default (a material JSON without the key, as Rust callers may send).
+    _, _, names = _core.material_response(json.dumps(mc()), np.zeros((1, 5)), 1e-3, [0.0] * 4)
+    assert ("opening_volumetric_strain" in names) is RECOMPACTION_DEFAULT

@@ -380,6 +380,9 @@ DEFAULTS: dict[str, Any] = {
     "friction_angle": 25.0,  # degrees
     "dilation_angle": 0.0,  # degrees, as in the seed paper
     "cohesion": 0.0,
+    # Separated sand re-compacts stress-free (mohr_coulomb.rs doc; docs/validation.md,
+    # "Re-compaction"); False = the seed set-up, the opened volume is permanent.
+    "recompaction": False,
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
@@ -412,6 +415,7 @@ def collapse_scenario(
     friction_angle: float = DEFAULTS["friction_angle"],
     dilation_angle: float = DEFAULTS["dilation_angle"],
     cohesion: float = DEFAULTS["cohesion"],
+    recompaction: bool = DEFAULTS["recompaction"],
     base_friction: float | None = DEFAULTS["base_friction"],
     shape_function: str = DEFAULTS["shape_function"],
     update_scheme: str = DEFAULTS["update_scheme"],
@@ -468,6 +472,7 @@ def collapse_scenario(
                 "dilation_angle": dilation_angle,
                 "cohesion": cohesion,
                 "tension_cutoff": 0.0,
+                "recompaction": recompaction,
             }
         },
         "bodies": [

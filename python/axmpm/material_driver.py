@@ -13,7 +13,11 @@ strain-driven engine: each step solves for the lateral strain rate that keeps th
 stress at the confining pressure (the response is piecewise linear in that rate, so a secant
 iteration converges in two or three evaluations). The material models are rate
 formulations (hypoelastic, Jaumann), so driving one step at a time from the previous
-stress is exact; only the accumulated state variables are summed here.
+stress is exact; only the accumulated state variables are summed here. The one exception is
+the Mohr–Coulomb ``recompaction`` option, whose ``opening_volumetric_strain`` feeds back into
+the stress update: it is not carried from one step to the next here (each step starts with no
+opening), which is harmless in drained compression (nothing separates). Use
+:func:`material_point` with the whole strain path for histories that separate and re-compact.
 """
 
 from __future__ import annotations

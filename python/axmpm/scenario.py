@@ -193,6 +193,11 @@ class NeoHookean(_Elastic):
     model: Literal["neo_hookean"]
 
 
+#: Mohr–Coulomb ``recompaction`` when a scenario does not set it (same as the engine's
+#: ``mohr_coulomb::RECOMPACTION_DEFAULT``).
+RECOMPACTION_DEFAULT = False
+
+
 class MohrCoulomb(_Elastic):
     """Elastic–perfectly plastic Mohr–Coulomb, non-associated (dilation angle ψ ≤ φ)."""
 
@@ -203,6 +208,13 @@ class MohrCoulomb(_Elastic):
     dilation_angle: NonNegative = Field(0.0, description="degrees, <= friction_angle")
     cohesion: NonNegative = Field(0.0, description="Pa")
     tension_cutoff: NonNegative = Field(0.0, description="Pa")
+    recompaction: bool = Field(
+        RECOMPACTION_DEFAULT,
+        strict=True,
+        description="true: material separated by tension (apex / cut-off returns) re-compacts "
+        "stress-free before it carries compression again (Dunatunga & Kamrin 2015); false: the "
+        "opened volume is permanent",
+    )
 
 
 Material = Annotated[Union[LinearElastic, NeoHookean, MohrCoulomb], Field(discriminator="model")]

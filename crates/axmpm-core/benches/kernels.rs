@@ -89,6 +89,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
             dilation_angle: Some(0.0),
             cohesion: Some(0.0),
             tension_cutoff: Some(0.0),
+            recompaction: None,
             extra: Default::default(),
         },
     );

@@ -11,7 +11,7 @@ fn main() {
     let mut materials = BTreeMap::new();
     materials.insert("m".to_string(), MaterialConfig {
         model: "linear_elastic".into(), density: 1500.0, youngs_modulus: 1e6, poisson_ratio: 0.3,
-        friction_angle: None, dilation_angle: None, cohesion: None, tension_cutoff: None, extra: Default::default() });
+        friction_angle: None, dilation_angle: None, cohesion: None, tension_cutoff: None, recompaction: None, extra: Default::default() });
     let cfg = Config {
         simulation: SimulationConfig { formulation: FormulationKind::Axisymmetric, shape_function: shape, end_time: 1.0,
             output_interval: 0.1, gravity: [0.0, -9.81], gravity_ramp_time: 0.0, time_step: 0.0, cfl: 0.4,

@@ -115,6 +115,10 @@ pub struct MaterialConfig {
     pub cohesion: Option<f64>,
     #[serde(default)]
     pub tension_cutoff: Option<f64>,
+    /// Mohr–Coulomb: separated (apex / tension-cut-off) material re-compacts stress-free before
+    /// it carries compression again (`None` = the model's default).
+    #[serde(default)]
+    pub recompaction: Option<bool>,
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
 }

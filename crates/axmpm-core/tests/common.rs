@@ -14,6 +14,7 @@ pub fn material(model: &str, density: f64, e: f64, nu: f64) -> MaterialConfig {
         dilation_angle: None,
         cohesion: None,
         tension_cutoff: None,
+        recompaction: None,
         extra: Default::default(),
     }
 }

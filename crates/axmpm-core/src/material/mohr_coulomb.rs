@@ -88,11 +88,80 @@
 //! * `plastic_shear_strain`: Σ √(2/3 Δe^p : Δe^p), Δe^p = dev Δε^p (accumulated equivalent
 //!   deviatoric plastic strain, ≥ 0; in triaxial compression its rate is (2/3)|ε̇1^p − ε̇3^p|).
 //! * `plastic_volumetric_strain`: Σ tr Δε^p (signed accumulated plastic volume change,
-//!   dilation positive; identically zero for ψ = 0 except for apex / tension returns).
+//!   dilation positive; identically zero for ψ = 0 except for apex / tension returns; with
+//!   `recompaction` the stress-free closing below counts as a negative plastic volume change).
+//! * `opening_volumetric_strain` (only with `recompaction = true`): the open volume o ≥ 0 of
+//!   separated material, see below.
+//!
+//! # Re-compaction of separated material (`recompaction = true`)
+//!
+//! Without it, cohesionless material pulled into tension returns to the apex (stress 0) and the
+//! whole volumetric strain of the step is booked as plastic: the material expands stress-free
+//! (ln J = `plastic_volumetric_strain`) and, when compressed later, builds stress elastically
+//! from the expanded state, so the opened volume is permanent (mean J = 1.24 in the a = 5.4
+//! column collapse deposit, docs/validation.md).
+//!
+//! Physically such material has lost its contacts. Dunatunga & Kamrin (2015), *Continuum
+//! modelling and simulation of granular flows through their many phases*, J. Fluid Mech.
+//! 779, treat granular material whose density falls below a critical (packed) density
+//! as disconnected and stress-free; it carries stress again only once compressed back to that
+//! density. Here the critical density of each particle is the density at which it separated,
+//! tracked through the open volume o = ln(ρ_packed/ρ) ≥ 0 (a volumetric strain):
+//!
+//! 1. **Opening.** A return to the apex or onto the tension cut-off adds the volumetric plastic
+//!    strain of its *separation* to o. For a return with Δε^p = C (σ_B − σ_C):
+//!    * Apex: Δo = max(0, tr Δε^p), whatever ψ. Material returned to the apex (stress 0 for
+//!      c = 0) has no contact pressure left to dilate against, so its volume increase is loss
+//!      of contact, not dilatancy. (Subtracting a dilatancy share sin ψ (Δε^p_1 − Δε^p_3), the
+//!      ratio of the plane flow b = (m, 0, −1), was tried and rejected: a uniaxial stretch of
+//!      stress-free sand then leaves part of its volume permanently open, so a stretch–compress
+//!      cycle ends compressed for ψ > 0.)
+//!    * Tension plane / edge / corner (Rankine flow e_i, associated): Δo = tr Δε^p (a tension
+//!      crack is all opening).
+//!    * Tension–shear edge and corners (Rankine flows plus Mohr–Coulomb flows with total
+//!      multiplier Λ): Δo = max(0, tr Δε^p − (m − 1) Λ), where Λ = −Σ Δε^p_i over the
+//!      principal directions below the cut-off (only the Mohr–Coulomb flows act there, each with
+//!      component −1): the Rankine part only.
+//!
+//!    Plane and edge returns never open: their plastic volume change (ψ > 0) is the dilatancy
+//!    of shear under confinement and stays permanent, as without this option.
+//! 2. **Closing.** At the start of a step with o > 0 and a compressive volumetric strain
+//!    increment Δε_v = tr dε < 0, the closed volume Δc = min(o, −Δε_v) is taken out of the
+//!    strain increment before the elastic trial, dε ← dε + (Δc/3) I, o ← o − Δc (never below 0),
+//!    and booked as plastic volume change (`plastic_volumetric_strain` −= Δc, so that ln J ≈
+//!    `plastic_volumetric_strain` + elastic volume change still holds). The deviatoric part of
+//!    dε is untouched. Only the compression beyond o builds elastic stress.
+//! 3. **Separated material** (c = 0 and o > 0 after the closing) is disconnected and
+//!    stress-free (Dunatunga & Kamrin): the stress is set to the apex, 0, and the whole remaining
+//!    strain increment is booked as plastic (its shear in `plastic_shear_strain`, any stretch
+//!    in o). For ψ = 0 this is what the return mapping gives anyway (a deviatoric trial at zero
+//!    mean stress returns to the apex); for ψ > 0 it keeps the dilatant plane return from
+//!    building pressure in a granular gas by shearing it.
+//!
+//! Consistency: for c = 0 a separated particle is always at σ = 0, so a particle stretched and
+//! compressed back by the same Σ tr dε ends at σ = 0, o = 0 (up to rounding), whatever the
+//! deviatoric path, and further compression builds the elastic stress K Δε_v as from a fresh
+//! state; a particle starting at −p0 first unloads elastically, then opens, and comes back to
+//! −p0. Σ tr dε is the rate form of ln J, so "compressed back by the same Σ tr dε" is J = 1 up
+//! to the time integration of F.
+//!
+//! Cohesive materials (c > 0) open and close o by rules 1–2 but keep their return mapping while
+//! o > 0 (rule 3 needs the stress-free apex): the opening is a scalar (isotropic) measure, and
+//! the directional nature of tension cracks is not represented. The option is meant for
+//! granular material (c = 0, where the cut-off is clamped to the apex and only apex returns
+//! occur). Off (the default), the update is bit for bit the one without this option.
 
 use super::{jaumann_rotation, lame, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material};
 use crate::config::MaterialConfig;
 use crate::particles::Stress;
+
+/// `recompaction` when a scenario does not set it.
+pub const RECOMPACTION_DEFAULT: bool = false;
+
+/// State slots: accumulated plastic shear strain, plastic volumetric strain, and (with
+/// `recompaction`) the open volume of separated material.
+const STATE_NAMES: [&str; 3] = ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain"];
+const OPENING: usize = 2;
 
 /// Which part of the yield surface a return went to (sorted principal space).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -134,11 +203,15 @@ pub struct MohrCoulomb {
     pub cohesion: f64,
     /// Pa, as configured (the effective value is clamped to the apex).
     pub tension_cutoff: f64,
+    /// Separated (apex / tension) material re-compacts stress-free (module doc).
+    pub recompaction: bool,
     elastic: LinearElastic,
     lambda: f64,
     mu: f64,
     /// k = (1 + sin φ)/(1 − sin φ).
     k: f64,
+    /// m = (1 + sin ψ)/(1 − sin ψ) (shear dilatancy, kept out of the opening).
+    m: f64,
     /// 2c√k.
     two_c_sqrt_k: f64,
     /// Apex σ_a = c cot φ.
@@ -218,10 +291,12 @@ impl MohrCoulomb {
             dilation_angle,
             cohesion,
             tension_cutoff,
+            recompaction: false,
             elastic: LinearElastic::new(density, youngs_modulus, poisson_ratio),
             lambda,
             mu,
             k,
+            m,
             two_c_sqrt_k,
             apex,
             sigma_t,
@@ -232,6 +307,12 @@ impl MohrCoulomb {
             n_l1,
             n_l2,
         }
+    }
+
+    /// Switches the stress-free re-compaction of separated material on or off (module doc).
+    pub fn with_recompaction(mut self, recompaction: bool) -> Self {
+        self.recompaction = recompaction;
+        self
     }
 
     pub fn from_config(c: &MaterialConfig) -> Result<Self, String> {
@@ -262,7 +343,8 @@ impl MohrCoulomb {
         if !(c.density > 0.0 && c.density.is_finite()) {
             return Err(format!("density must be > 0 for mohr_coulomb (got {})", c.density));
         }
-        Ok(Self::new(c.density, c.youngs_modulus, c.poisson_ratio, phi, psi, coh, st))
+        Ok(Self::new(c.density, c.youngs_modulus, c.poisson_ratio, phi, psi, coh, st)
+            .with_recompaction(c.recompaction.unwrap_or(RECOMPACTION_DEFAULT)))
     }
 
     /// Mohr–Coulomb yield function f = k σ1 − σ3 − 2c√k of sorted principal stresses.
@@ -388,8 +470,46 @@ impl MohrCoulomb {
         self.yield_function(&[s1, 0.0, s3]) < -margin && (!self.cutoff || s1 < self.sigma_t - margin)
     }
 
+    /// Volumetric strain of separation opened by a return (module doc, "Opening"), ≥ 0.
+    /// `ep` is the sorted principal plastic strain increment C (σ_B − σ_C).
+    #[inline(always)]
+    fn opening_increment(&self, region: ReturnRegion, ep: &[f64; 3]) -> f64 {
+        use ReturnRegion::*;
+        let vol = ep[0] + ep[1] + ep[2];
+        let opened = match region {
+            Elastic | Plane | EdgeCompression | EdgeExtension => 0.0,
+            // At the apex nothing is left to dilate against: all of it is separation.
+            Apex => vol,
+            TensionPlane | TensionEdge | TensionCorner => vol,
+            // Λ = −Σ ε^p_i below the cut-off; each Mohr–Coulomb flow adds (m − 1) per unit Λ.
+            TensionShearEdge | TensionShearCornerExtension => vol + (self.m - 1.0) * (ep[1] + ep[2]),
+            TensionShearCornerCompression => vol + (self.m - 1.0) * ep[2],
+        };
+        opened.max(0.0)
+    }
+
+    /// Closes the open volume of separated material stress-free (module doc, "Closing"): the
+    /// compressive volumetric part of the strain increment `de` is consumed by the opening
+    /// before any of it reaches the elastic trial.
+    #[inline(always)]
+    fn close_opening(de: &mut [f64; 4], state: &mut [f64]) {
+        let opening = state[OPENING];
+        let dv = de[0] + de[1] + de[2];
+        if opening > 0.0 && dv < 0.0 {
+            let closed = opening.min(-dv);
+            let third = closed / 3.0;
+            de[0] += third;
+            de[1] += third;
+            de[2] += third;
+            state[OPENING] = if closed >= opening { 0.0 } else { opening - closed };
+            state[1] -= closed;
+        }
+    }
+
     /// Return mapping of the trial stress `tr` in principal space (the exact path).
-    fn return_trial(&self, stress: &mut Stress, state: &mut [f64], tr: Stress) {
+    /// `separated`: the particle is disconnected (open volume left after the closing, c = 0), so
+    /// its stress is the apex, 0, whatever the trial (module doc, "Separated material").
+    fn return_trial(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, separated: bool) {
         // In-plane principal values a ≥ b and their axes; σ33 is principal.
         let centre = 0.5 * (tr[0] + tr[1]);
         let half = 0.5 * (tr[0] - tr[1]);
@@ -406,7 +526,8 @@ impl MohrCoulomb {
         };
         let sorted = [vals[order[0]], vals[order[1]], vals[order[2]]];
 
-        let (ret, region) = self.return_principal(&sorted);
+        let (ret, region) =
+            if separated { ([self.apex; 3], ReturnRegion::Apex) } else { self.return_principal(&sorted) };
         if region == ReturnRegion::Elastic {
             *stress = tr;
             return;
@@ -427,6 +548,9 @@ impl MohrCoulomb {
             let (e0, e1, e2) = (ep[0] - m, ep[1] - m, ep[2] - m);
             state[0] += (2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2)).sqrt();
             state[1] += vol;
+            if self.recompaction && state.len() > OPENING {
+                state[OPENING] += self.opening_increment(region, &ep);
+            }
         }
     }
 }
@@ -442,13 +566,22 @@ impl Material for MohrCoulomb {
         p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
     }
     fn state_names(&self) -> &'static [&'static str] {
-        &["plastic_shear_strain", "plastic_volumetric_strain"]
+        if self.recompaction {
+            &STATE_NAMES
+        } else {
+            &STATE_NAMES[..2]
+        }
     }
 
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
         // Hypoelastic Jaumann trial, identical (bit for bit) to LinearElastic.
         let (d, spin) = rate_of_deformation(&k.velocity_gradient);
-        let de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
+        let mut de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
+        let mut separated = false;
+        if self.recompaction && state.len() > OPENING {
+            Self::close_opening(&mut de, state);
+            separated = self.cohesion == 0.0 && state[OPENING] > 0.0;
+        }
         let rot = jaumann_rotation(stress, spin, k.dt);
         let inc = self.elastic.elastic_increment(&de);
         let mut tr = *stress;
@@ -456,11 +589,11 @@ impl Material for MohrCoulomb {
             tr[c] += inc[c] + rot[c];
         }
 
-        if self.clearly_elastic(&tr) {
+        if !separated && self.clearly_elastic(&tr) {
             *stress = tr;
             return;
         }
-        self.return_trial(stress, state, tr);
+        self.return_trial(stress, state, tr, separated);
     }
 }
 
@@ -1006,9 +1139,9 @@ mod tests {
                     a = tr;
                     fast += 1;
                 } else {
-                    m.return_trial(&mut a, &mut state_a, tr);
+                    m.return_trial(&mut a, &mut state_a, tr, false);
                 }
-                m.return_trial(&mut b, &mut state_b, tr);
+                m.return_trial(&mut b, &mut state_b, tr, false);
                 assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{tr:?}");
                 assert_eq!(state_a.map(f64::to_bits), state_b.map(f64::to_bits));
             }
@@ -1019,7 +1152,13 @@ mod tests {
     /// Test 5: steps that stay inside the surface equal the linear elastic update bit for bit.
     #[test]
     fn elastic_steps_match_linear_elastic_bit_for_bit() {
-        let m = mc(30.0, 0.0, 10e3, 0.0);
+        for recompaction in [false, true] {
+            elastic_steps_match_linear_elastic(recompaction);
+        }
+    }
+
+    fn elastic_steps_match_linear_elastic(recompaction: bool) {
+        let m = mc(30.0, 0.0, 10e3, 0.0).with_recompaction(recompaction);
         let le = LinearElastic::new(2000.0, E, NU);
         let mut rng = Lcg(99);
         let mut n = 0;
@@ -1034,12 +1173,12 @@ mod tests {
             let k = kin(l, 0.7);
             let mut a = s0;
             let mut b = s0;
-            let mut state = [0.25, -0.5];
+            let mut state = [0.25, -0.5, 0.0];
             m.update_stress(&mut a, &mut state, &k);
             le.update_stress(&mut b, &mut [], &k);
             assert!(m.yield_function(&principal_full(&a)) < 0.0);
             assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
-            assert_eq!(state, [0.25, -0.5]);
+            assert_eq!(state, [0.25, -0.5, 0.0]);
             n += 1;
         }
         assert_eq!(n, 2000);
@@ -1157,11 +1296,20 @@ mod tests {
             dilation_angle: None,
             cohesion: None,
             tension_cutoff: None,
+            recompaction: None,
             extra: Default::default(),
         };
         let m = MohrCoulomb::from_config(&base).unwrap();
         assert_eq!(m.model(), "mohr_coulomb");
-        assert_eq!(m.state_names(), &["plastic_shear_strain", "plastic_volumetric_strain"]);
+        assert_eq!(m.recompaction, RECOMPACTION_DEFAULT);
+        let names = ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain"];
+        assert_eq!(m.state_names(), if RECOMPACTION_DEFAULT { &names[..] } else { &names[..2] });
+        for (flag, n) in [(false, 2), (true, 3)] {
+            let c = MaterialConfig { recompaction: Some(flag), ..base.clone() };
+            let m = MohrCoulomb::from_config(&c).unwrap();
+            assert_eq!((m.recompaction, m.state_names()), (flag, &names[..n]));
+            assert_eq!(super::super::build("sand", &c).unwrap().state_names().len(), n);
+        }
         assert_eq!((m.dilation_angle, m.cohesion, m.tension_cutoff), (0.0, 0.0, 0.0));
         assert!((m.wave_speed() - p_wave_speed(1e6, 0.3, 1550.0)).abs() < 1e-12);
         assert!(super::super::build("sand", &base).is_ok());
@@ -1179,5 +1327,253 @@ mod tests {
         assert!(err(&|c| c.tension_cutoff = Some(-1.0)).contains("tension_cutoff"));
         assert!(err(&|c| c.poisson_ratio = 0.5).contains("poisson_ratio"));
         assert!(err(&|c| c.youngs_modulus = 0.0).contains("youngs_modulus"));
+    }
+
+    // ------------------------------------------------------------------ re-compaction
+
+    fn mc_rc(phi: f64, psi: f64, c: f64, st: f64) -> MohrCoulomb {
+        mc(phi, psi, c, st).with_recompaction(true)
+    }
+
+    fn bulk_modulus() -> f64 {
+        E / (3.0 * (1.0 - 2.0 * NU))
+    }
+
+    /// Drives `steps` steps of velocity gradient `l` (dt = 1).
+    fn drive(m: &MohrCoulomb, s: &mut Stress, state: &mut [f64], l: [f64; 5], steps: usize) {
+        for _ in 0..steps {
+            m.update_stress(s, state, &kin(l, 1.0));
+        }
+    }
+
+    /// (φ, ψ, c, σ_t): cohesionless with ψ = 0 and ψ > 0, cohesive with and without a cut-off.
+    const MATERIALS: [(f64, f64, f64, f64); 4] =
+        [(30.0, 0.0, 0.0, 0.0), (35.0, 10.0, 0.0, 0.0), (25.0, 0.0, 10e3, 2e3), (40.0, 20.0, 5e3, 0.0)];
+
+    /// Random stretch / compress / shear histories (cohesionless and cohesive, with and
+    /// without a cut-off), hashed bit for bit (stress and the first two states) after every step.
+    fn trajectory_hash(build: &dyn Fn(f64, f64, f64, f64) -> MohrCoulomb) -> (u64, usize) {
+        let mut h: u64 = 0xcbf29ce484222325;
+        let mut mix = |x: u64| {
+            h ^= x;
+            h = h.wrapping_mul(0x100000001b3);
+        };
+        let mut rng = Lcg(2024);
+        let mut yielded = 0;
+        for &(phi, psi, c, st) in &MATERIALS {
+            let m = build(phi, psi, c, st);
+            for _ in 0..40 {
+                let mut s = [-50e3 * rng.next(), -50e3 * rng.next(), -50e3 * rng.next(), 10e3 * (rng.next() - 0.5)];
+                let mut state = vec![0.0; m.state_names().len()];
+                for _ in 0..150 {
+                    // Volumetric bias drifts between stretching and compression.
+                    let bias = 2e-3 * (rng.next() - 0.45);
+                    let l = [0u8; 5].map(|_| bias + 4e-3 * (rng.next() - 0.5));
+                    m.update_stress(&mut s, &mut state, &kin(l, 1.0));
+                    for x in s.iter().chain(state[..2].iter()) {
+                        mix(x.to_bits());
+                    }
+                }
+                yielded += (state[0] > 0.0) as usize;
+            }
+        }
+        (h, yielded)
+    }
+
+    /// With `recompaction` off (the engine default and `recompaction = false`) the update is the
+    /// one from before the option existed, bit for bit: the hash below was recorded with that
+    /// code (commit 8da7919) on the same histories.
+    #[test]
+    fn recompaction_off_reproduces_the_previous_update_bit_for_bit() {
+        const BEFORE_THE_OPTION: u64 = 0x8bc9c68b820ee40a;
+        let (h, yielded) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d));
+        assert_eq!(h, BEFORE_THE_OPTION, "{h:#x}");
+        assert!(yielded > 100, "only {yielded} of 160 histories yielded");
+        let (h, _) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d).with_recompaction(false));
+        assert_eq!(h, BEFORE_THE_OPTION);
+        // And it does change once separated material is re-compacted.
+        let (h_on, _) = trajectory_hash(&mc_rc);
+        assert_ne!(h_on, BEFORE_THE_OPTION);
+    }
+
+    /// Stretched into tension (stress-free expansion at the apex), then compressed back by the
+    /// same Σ tr dε: zero stress and zero opening again, whatever the deviatoric part of either
+    /// phase. Without re-compaction the compression builds ~K × (opened volume) instead.
+    #[test]
+    fn stretch_then_compress_back_closes_the_opening_stress_free() {
+        let r = 1e-4;
+        // (stretch, compress) velocity gradients with opposite traces.
+        let cycles = [
+            ([0.0, 0.0, 0.0, r, 0.0], [0.0, 0.0, 0.0, -r, 0.0]), // plane strain, uniaxial
+            ([r, 0.0, 0.0, r, r], [-r, 0.0, 0.0, -r, -r]),       // axisymmetric, isotropic
+            ([r, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, -r, 0.0]), // stretch r, compress z
+            ([r, 0.7 * r, -0.2 * r, 0.5 * r, 0.0], [-1.5 * r, 0.0, 0.4 * r, 0.0, 0.0]), // with shear and spin
+        ];
+        for &(psi, phi) in &[(0.0, 30.0), (10.0, 35.0)] {
+            for (stretch, compress) in cycles {
+                let m = mc_rc(phi, psi, 0.0, 0.0);
+                let mut s = [0.0; 4];
+                let mut state = [0.0; 3];
+                drive(&m, &mut s, &mut state, stretch, 200);
+                let opened = state[2];
+                let tr = stretch[0] + stretch[3] + stretch[4];
+                assert!((opened - 200.0 * tr).abs() <= 1e-12 * opened, "psi {psi}: opened {opened} vs {}", 200.0 * tr);
+                assert!(s.iter().all(|x| x.abs() <= 1e-6), "not stress-free when stretched: {s:?}");
+                drive(&m, &mut s, &mut state, compress, 200);
+                assert!(state[2] >= 0.0 && state[2] <= 1e-15, "opening left: {state:?}");
+                assert!(s.iter().all(|x| x.abs() <= 1e-6), "stress after the cycle: {s:?}");
+                assert!(state[1].abs() <= 1e-15, "plastic volume change after the cycle: {state:?}");
+                // Off: the same cycle ends in compression of the order K × opened volume.
+                let off = mc(phi, psi, 0.0, 0.0);
+                let (mut s_off, mut st_off) = ([0.0; 4], [0.0; 2]);
+                drive(&off, &mut s_off, &mut st_off, stretch, 200);
+                drive(&off, &mut s_off, &mut st_off, compress, 200);
+                let p_off = -(s_off[0] + s_off[1] + s_off[2]) / 3.0;
+                assert!(p_off > 0.1 * bulk_modulus() * opened, "off: p = {p_off}");
+            }
+        }
+        // From a geostatic-like isotropic compression −p0: the stretch first unloads elastically,
+        // then opens; compressed back by the same amount the stress is −p0 again.
+        let m = mc_rc(30.0, 0.0, 0.0, 0.0);
+        let p0 = 20e3;
+        let mut s = [-p0, -p0, -p0, 0.0];
+        let mut state = [0.0; 3];
+        drive(&m, &mut s, &mut state, [r, 0.0, 0.0, r, r], 100);
+        assert_eq!(s, [0.0; 4]);
+        let elastic_unloading = p0 / bulk_modulus();
+        assert!((state[2] - (300.0 * r - elastic_unloading)).abs() <= 1e-9 * state[2], "{state:?}");
+        drive(&m, &mut s, &mut state, [-r, 0.0, 0.0, -r, -r], 100);
+        assert_eq!(state[2], 0.0);
+        for i in 0..3 {
+            assert!((s[i] + p0).abs() <= 1e-9 * p0, "{s:?}");
+        }
+        assert!(s[3].abs() <= 1e-9 * p0);
+    }
+
+    /// Compression beyond the closed opening builds stress elastically from zero: the same as a
+    /// fresh (never separated) particle under the same compression, and K Δε_v for an isotropic one.
+    #[test]
+    fn compression_beyond_closure_builds_elastic_stress_as_from_a_fresh_state() {
+        let r: f64 = 1e-4;
+        for &(stretch, compress) in &[
+            ([0.0, 0.0, 0.0, r, 0.0], [0.0, 0.0, 0.0, -r, 0.0]),
+            ([r, 0.0, 0.0, r, r], [-r, 0.0, 0.0, -r, -r]),
+            ([r, 0.3 * r, 0.0, 0.2 * r, 0.5 * r], [-0.4 * r, 0.0, -0.3 * r, -0.7 * r, -0.6 * r]),
+        ] {
+            let tr_s = stretch[0] + stretch[3] + stretch[4];
+            let tr_c = -(compress[0] + compress[3] + compress[4]);
+            // Compress back exactly the opened volume (whole steps), then 50 steps more.
+            let back = (150.0 * tr_s / tr_c).round() as usize;
+            assert!((back as f64 * tr_c - 150.0 * tr_s).abs() < 1e-12, "choose rates with whole steps");
+            let m = mc_rc(30.0, 0.0, 0.0, 0.0);
+            let mut s = [0.0; 4];
+            let mut state = [0.0; 3];
+            drive(&m, &mut s, &mut state, stretch, 150);
+            drive(&m, &mut s, &mut state, compress, back);
+            assert!(state[2] <= 1e-15);
+            drive(&m, &mut s, &mut state, compress, 50);
+            let mut fresh = [0.0; 4];
+            let mut fresh_state = [0.0; 3];
+            drive(&m, &mut fresh, &mut fresh_state, compress, 50);
+            let scale = fresh.iter().map(|x| x.abs()).fold(0.0, f64::max);
+            assert!(scale > 1e3, "{fresh:?}");
+            for i in 0..4 {
+                assert!((s[i] - fresh[i]).abs() <= 1e-9 * scale, "{s:?} vs fresh {fresh:?}");
+            }
+            assert_eq!(state[2], 0.0);
+        }
+        // Isotropic: mean stress −K Δε_v with Δε_v the compression beyond the closure only.
+        let m = mc_rc(30.0, 0.0, 0.0, 0.0);
+        let mut s = [0.0; 4];
+        let mut state = [0.0; 3];
+        drive(&m, &mut s, &mut state, [r, 0.0, 0.0, r, r], 100); // opens 0.03
+        drive(&m, &mut s, &mut state, [-r, 0.0, 0.0, -r, -r], 130); // closes 0.03, then 0.009
+        let want = -bulk_modulus() * 30.0 * 3.0 * r;
+        for i in 0..3 {
+            assert!((s[i] - want).abs() <= 1e-9 * want.abs(), "{s:?} vs {want}");
+        }
+        // Off: the whole 0.039 compresses elastically from the expanded state.
+        let off = mc(30.0, 0.0, 0.0, 0.0);
+        let (mut s_off, mut st_off) = ([0.0; 4], [0.0; 2]);
+        drive(&off, &mut s_off, &mut st_off, [r, 0.0, 0.0, r, r], 100);
+        drive(&off, &mut s_off, &mut st_off, [-r, 0.0, 0.0, -r, -r], 130);
+        assert!((s_off[0] - want * 130.0 / 30.0).abs() <= 1e-9 * want.abs() * 5.0, "{s_off:?}");
+    }
+
+    /// Random histories: the opening never goes negative, cohesionless separated material
+    /// (opening > 0) carries no stress, and openings do close again.
+    #[test]
+    fn opening_is_never_negative_and_separated_sand_carries_no_stress() {
+        let mut rng = Lcg(555);
+        let (mut opened, mut closed) = (0, 0);
+        for &(phi, psi, c, st) in &MATERIALS {
+            let m = mc_rc(phi, psi, c, st);
+            for _ in 0..60 {
+                let mut s = [-20e3 * rng.next(), -20e3 * rng.next(), -20e3 * rng.next(), 5e3 * (rng.next() - 0.5)];
+                let mut state = [0.0; 3];
+                for _ in 0..300 {
+                    let bias = 2e-3 * (rng.next() - 0.5);
+                    let l = [0u8; 5].map(|_| bias + 3e-3 * (rng.next() - 0.5));
+                    let before = state[2];
+                    m.update_stress(&mut s, &mut state, &kin(l, 1.0));
+                    assert!(state[2] >= 0.0, "negative opening {state:?}");
+                    if c == 0.0 && state[2] > 0.0 {
+                        assert!(s.iter().all(|x| x.abs() <= 1e-6), "separated but stressed: {s:?}");
+                    }
+                    opened += (before == 0.0 && state[2] > 0.0) as usize;
+                    closed += (before > 0.0 && state[2] == 0.0) as usize;
+                }
+            }
+        }
+        assert!(opened > 200 && closed > 200, "opened {opened}, closed {closed}");
+    }
+
+    /// Shear dilatancy (ψ > 0) on the plane and edges is not an opening; an isotropic stretch to the
+    /// apex is all opening whatever ψ; a tension cut-off return opens its whole plastic volume.
+    #[test]
+    fn only_apex_and_tension_returns_open() {
+        let m = mc_rc(30.0, 30.0, 10e3, 0.0);
+        let mut rng = Lcg(4242);
+        let mut plastic = 0;
+        for _ in 0..3000 {
+            let s0 = [-150e3 * rng.next(), -150e3 * rng.next(), -150e3 * rng.next(), 60e3 * (rng.next() - 0.5)];
+            let l = [0u8; 5].map(|_| 6e-3 * (rng.next() - 0.5));
+            let kn = kin(l, 1.0);
+            let (_, region) = m.return_principal(&principal_full(&trial_of(&s0, &kn)));
+            if !matches!(region, ReturnRegion::Plane | ReturnRegion::EdgeCompression | ReturnRegion::EdgeExtension) {
+                continue;
+            }
+            let mut s = s0;
+            let mut state = [0.0; 3];
+            m.update_stress(&mut s, &mut state, &kn);
+            assert!(state[1] > 0.0, "associated flow dilates: {state:?}");
+            assert_eq!(state[2], 0.0);
+            plastic += 1;
+        }
+        assert!(plastic > 100, "{plastic}");
+        for psi in [0.0, 20.0] {
+            let m = mc_rc(30.0, psi, 0.0, 0.0);
+            let mut s = [0.0; 4];
+            let mut state = [0.0; 3];
+            drive(&m, &mut s, &mut state, [1e-4, 0.0, 0.0, 1e-4, 1e-4], 10);
+            assert!((state[2] - 3e-3).abs() <= 1e-15, "psi {psi}: {state:?}");
+        }
+        // Cohesive with a cut-off: plane strain stretch in x beyond the cut-off (Rankine plane).
+        let m = mc_rc(30.0, 0.0, 20e3, 1e3);
+        let mut s = [0.0; 4];
+        let mut state = [0.0; 3];
+        let mut regions = Vec::new();
+        for _ in 0..100 {
+            let kn = kin([1e-5, 0.0, 0.0, 0.0, 0.0], 1.0);
+            regions.push(m.return_principal(&principal_full(&trial_of(&s, &kn))).1);
+            m.update_stress(&mut s, &mut state, &kn);
+        }
+        assert!(regions.contains(&ReturnRegion::TensionPlane), "{regions:?}");
+        assert!((s[0] - 1e3).abs() < 1e-9, "{s:?}");
+        assert!(state[2] > 0.0 && (state[2] - state[1]).abs() <= 1e-12 * state[2], "{state:?}");
+        // An isotropic compression closes it (a uniaxial one would also open the lateral directions:
+        // the opening is a scalar, see the module doc).
+        drive(&m, &mut s, &mut state, [-1e-5, 0.0, 0.0, -1e-5, -1e-5], 40);
+        assert_eq!(state[2], 0.0);
     }
 }
