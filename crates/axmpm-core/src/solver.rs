@@ -30,36 +30,63 @@ use crate::shape::{ParticleDomain, ShapeFunction, Stencil};
 /// Number of particle ranges scattered independently in particle → grid.
 pub const LANES: usize = 8;
 
-/// Nodal buffers of one lane. Only the node range `touched` (inclusive bounds on the node
-/// index) can be non-zero, so clearing and summing the lanes costs in proportion to the
-/// region the lane's particles cover, not to the whole grid.
+/// What particle → grid accumulates at one node. The fields of a node are kept together so
+/// that scattering a particle touches one cache line per node instead of one per field.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NodalSums {
+    pub mass: f64,
+    pub momentum: [f64; 2],
+    pub force: [f64; 2],
+}
+
+/// An inclusive box of grid nodes: columns `columns[0] ..= columns[1]`, rows
+/// `rows[0] ..= rows[1]`; empty when a lower bound exceeds its upper bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeBox {
+    pub columns: [usize; 2],
+    pub rows: [usize; 2],
+}
+
+impl NodeBox {
+    pub const EMPTY: Self = Self { columns: [usize::MAX, 0], rows: [usize::MAX, 0] };
+
+    #[inline(always)]
+    fn is_empty(&self) -> bool {
+        self.columns[0] > self.columns[1] || self.rows[0] > self.rows[1]
+    }
+
+    /// Grows the box to contain the stencil's node box.
+    #[inline(always)]
+    fn include(&mut self, st: &Stencil) {
+        self.columns = [self.columns[0].min(st.columns[0] as usize), self.columns[1].max(st.columns[1] as usize)];
+        self.rows = [self.rows[0].min(st.rows[0] as usize), self.rows[1].max(st.rows[1] as usize)];
+    }
+}
+
+/// Nodal buffers of one lane. Only the nodes in the box `touched` can be non-zero, so clearing
+/// and summing the lanes costs in proportion to the region the lane's particles cover, not to
+/// the whole grid (nor to whole grid rows).
 #[derive(Clone, Debug)]
 pub struct Lane {
-    pub mass: Vec<f64>,
-    pub momentum: Vec<[f64; 2]>,
-    pub force: Vec<[f64; 2]>,
-    pub touched: (usize, usize),
+    pub nodes: Vec<NodalSums>,
+    pub touched: NodeBox,
 }
 
 impl Lane {
     fn new(num_nodes: usize) -> Self {
-        Self {
-            mass: vec![0.0; num_nodes],
-            momentum: vec![[0.0; 2]; num_nodes],
-            force: vec![[0.0; 2]; num_nodes],
-            touched: (usize::MAX, 0),
-        }
+        Self { nodes: vec![NodalSums::default(); num_nodes], touched: NodeBox::EMPTY }
     }
 
-    /// Zeroes the buffers where the previous scatter wrote.
-    fn clear(&mut self) {
-        let (lo, hi) = self.touched;
-        if lo <= hi {
-            self.mass[lo..=hi].fill(0.0);
-            self.momentum[lo..=hi].fill([0.0; 2]);
-            self.force[lo..=hi].fill([0.0; 2]);
+    /// Zeroes the buffers where the previous scatter wrote (`nodes_x` nodes per grid row).
+    fn clear(&mut self, nodes_x: usize) {
+        let b = self.touched;
+        if !b.is_empty() {
+            for j in b.rows[0]..=b.rows[1] {
+                let row = j * nodes_x;
+                self.nodes[row + b.columns[0]..=row + b.columns[1]].fill(NodalSums::default());
+            }
         }
-        self.touched = (usize::MAX, 0);
+        self.touched = NodeBox::EMPTY;
     }
 }
 
@@ -201,80 +228,90 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let particles = &state.particles;
     let grid = &state.grid;
     let len = lane_length(particles.len());
+    let nodes_x = grid.nodes[0];
     cache.par_chunks_mut(len).zip(state.lanes.par_iter_mut()).enumerate().for_each(|(k, (lane_cache, lane))| {
-        lane.clear();
+        lane.clear(nodes_x);
         let mut st = Stencil::default();
-        let (mut lo, mut hi) = (usize::MAX, 0usize);
+        let mut touched = NodeBox::EMPTY;
         for (i, c) in lane_cache.iter_mut().enumerate() {
             let p = k * len + i;
             let domain = ParticleDomain::of(particles, p);
             *c = S::prepare(grid, &domain, F::AXISYMMETRIC);
             S::expand(grid, c, &domain, F::AXISYMMETRIC, &mut st);
+            touched.include(&st);
             let m = particles.mass[p];
             let v = particles.velocity[p];
-            for e in 0..st.len {
-                let node = st.node[e] as usize;
-                lo = lo.min(node);
-                hi = hi.max(node);
-                let w = st.weight[e];
-                lane.mass[node] += w * m;
-                lane.momentum[node][0] += w * m * v[0];
-                lane.momentum[node][1] += w * m * v[1];
-            }
             let vol = particles.volume[p];
             let s = particles.stress[p];
             let hoop = F::hoop_factor(particles.position[p]);
             for e in 0..st.len {
-                let node = st.node[e] as usize;
                 let w = st.weight[e];
                 let g = st.gradient[e];
+                let sums = &mut lane.nodes[st.node[e] as usize];
+                sums.mass += w * m;
+                sums.momentum[0] += w * m * v[0];
+                sums.momentum[1] += w * m * v[1];
                 // Internal force (Sulsky & Schreyer 1996, PHYSICS.md §2) plus gravity.
-                lane.force[node][0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
-                lane.force[node][1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
+                sums.force[0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
+                sums.force[1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
             }
         }
-        lane.touched = (lo, hi);
+        lane.touched = touched;
     });
-    sum_lanes(&state.lanes, &mut state.fields, true);
+    sum_lanes(&state.lanes, grid.nodes[0], &mut state.fields, true);
 }
 
 /// Sums the lanes node by node in lane order into the grid fields: momentum always, mass and
 /// force when `all` (the MUSL re-map only scatters momentum).
-fn sum_lanes(lanes: &[Lane], fields: &mut GridFields, all: bool) {
-    const CHUNK: usize = 4096;
+fn sum_lanes(lanes: &[Lane], nodes_x: usize, fields: &mut GridFields, all: bool) {
+    // Whole grid rows per parallel chunk, about 4096 nodes.
+    let rows_per_chunk = (4096 / nodes_x).max(1);
+    let chunk = rows_per_chunk * nodes_x;
     fields
         .mass
-        .par_chunks_mut(CHUNK)
-        .zip(fields.momentum.par_chunks_mut(CHUNK))
-        .zip(fields.force.par_chunks_mut(CHUNK))
+        .par_chunks_mut(chunk)
+        .zip(fields.momentum.par_chunks_mut(chunk))
+        .zip(fields.force.par_chunks_mut(chunk))
         .enumerate()
         .for_each(|(c, ((mass, momentum), force))| {
             // Start from zero and add each lane's touched part of this chunk, in lane order:
             // every node is summed as 0 + lane0 + lane1 + ..., independent of the threads.
-            let start = c * CHUNK;
-            let end = start + mass.len();
+            // (A lane adds nothing outside its box, where it holds +0, and adding +0 to a sum
+            // that started at +0 never changes it, so skipping those nodes is exact.)
+            let start = c * chunk;
+            let first_row = c * rows_per_chunk;
+            let last_row = first_row + mass.len() / nodes_x - 1;
             momentum.fill([0.0; 2]);
             if all {
                 mass.fill(0.0);
                 force.fill([0.0; 2]);
             }
             for lane in lanes {
-                let lo = lane.touched.0.max(start);
-                let hi = (lane.touched.1 + 1).min(end);
-                if lo >= hi {
+                let b = lane.touched;
+                if b.is_empty() {
                     continue;
                 }
-                for node in lo..hi {
-                    let i = node - start;
-                    momentum[i][0] += lane.momentum[node][0];
-                    momentum[i][1] += lane.momentum[node][1];
-                }
-                if all {
-                    for node in lo..hi {
-                        let i = node - start;
-                        mass[i] += lane.mass[node];
-                        force[i][0] += lane.force[node][0];
-                        force[i][1] += lane.force[node][1];
+                for j in b.rows[0].max(first_row)..=b.rows[1].min(last_row) {
+                    let row = j * nodes_x;
+                    let nodes = &lane.nodes[row + b.columns[0]..=row + b.columns[1]];
+                    let local = row - start + b.columns[0]..=row - start + b.columns[1];
+                    if all {
+                        let out = mass[local.clone()]
+                            .iter_mut()
+                            .zip(&mut momentum[local.clone()])
+                            .zip(&mut force[local]);
+                        for (((m, p), f), sums) in out.zip(nodes) {
+                            *m += sums.mass;
+                            p[0] += sums.momentum[0];
+                            p[1] += sums.momentum[1];
+                            f[0] += sums.force[0];
+                            f[1] += sums.force[1];
+                        }
+                    } else {
+                        for (p, sums) in momentum[local].iter_mut().zip(nodes) {
+                            p[0] += sums.momentum[0];
+                            p[1] += sums.momentum[1];
+                        }
                     }
                 }
             }
@@ -344,9 +381,9 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
         .enumerate()
         .for_each(|(k, ((velocity_io, displacement_out), lane))| {
             if musl {
-                lane.clear();
+                lane.clear(grid.nodes[0]);
             }
-            let (mut lo, mut hi) = (usize::MAX, 0usize);
+            let mut touched = NodeBox::EMPTY;
             let mut st = Stencil::default();
             for (i, (v_io, dx)) in velocity_io.iter_mut().zip(displacement_out.iter_mut()).enumerate() {
                 let p = k * len + i;
@@ -377,23 +414,22 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 *v_io = v_new;
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
+                    touched.include(&st);
                     let m = mass[p];
                     for e in 0..st.len {
-                        let node = st.node[e] as usize;
-                        lo = lo.min(node);
-                        hi = hi.max(node);
+                        let sums = &mut lane.nodes[st.node[e] as usize];
                         let wm = st.weight[e] * m;
-                        lane.momentum[node][0] += wm * v_new[0];
-                        lane.momentum[node][1] += wm * v_new[1];
+                        sums.momentum[0] += wm * v_new[0];
+                        sums.momentum[1] += wm * v_new[1];
                     }
                 }
             }
             if musl {
-                lane.touched = (lo, hi);
+                lane.touched = touched;
             }
         });
     if musl {
-        sum_lanes(&state.lanes, &mut state.fields, false);
+        sum_lanes(&state.lanes, grid.nodes[0], &mut state.fields, false);
         remap_velocity(state);
     }
 }

@@ -54,6 +54,8 @@ impl ShapeFunction for Linear {
             }
         }
         out.len = 4;
+        out.columns = [ci as u32, ci as u32 + 1];
+        out.rows = [cj as u32, cj as u32 + 1];
     }
 }
 

@@ -152,6 +152,10 @@ pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisym
 pub(crate) fn gimp_tensor(grid: &GridGeometry, axes: &GimpCache, out: &mut Stencil) {
     out.clear();
     let [ax, ay] = axes;
+    // An axis keeps at least one node for a particle inside the grid; `max(1)` only guards
+    // the box arithmetic.
+    out.columns = [ax.first, ax.first + (ax.len.max(1) - 1) as u32];
+    out.rows = [ay.first, ay.first + (ay.len.max(1) - 1) as u32];
     for b in 0..ay.len as usize {
         let row = (ay.first as usize + b) * grid.nodes[0];
         let (wy, dy) = (ay.weight[b], ay.derivative[b]);
