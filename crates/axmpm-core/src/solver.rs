@@ -244,10 +244,8 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
             let vol = particles.volume[p];
             let s = particles.stress[p];
             let hoop = F::hoop_factor(particles.position[p]);
-            for e in 0..st.len {
-                let w = st.weight[e];
-                let g = st.gradient[e];
-                let sums = &mut lane.nodes[st.node[e] as usize];
+            for (node, w, g) in st.entries() {
+                let sums = &mut lane.nodes[node];
                 sums.mass += w * m;
                 sums.momentum[0] += w * m * v[0];
                 sums.momentum[1] += w * m * v[1];
@@ -396,9 +394,7 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 S::expand(grid, &cache[p], &domain, F::AXISYMMETRIC, &mut st);
                 let mut v_grid = [0.0; 2];
                 let mut dv = [0.0; 2];
-                for e in 0..st.len {
-                    let node = st.node[e] as usize;
-                    let w = st.weight[e];
+                for (node, w, _) in st.entries() {
                     let vn = fields.velocity_new[node];
                     let vo = fields.velocity[node];
                     v_grid[0] += w * vn[0];
@@ -416,9 +412,9 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 if musl {
                     touched.include(&st);
                     let m = mass[p];
-                    for e in 0..st.len {
-                        let sums = &mut lane.nodes[st.node[e] as usize];
-                        let wm = st.weight[e] * m;
+                    for (node, w, _) in st.entries() {
+                        let sums = &mut lane.nodes[node];
+                        let wm = w * m;
                         sums.momentum[0] += wm * v_new[0];
                         sums.momentum[1] += wm * v_new[1];
                     }

@@ -64,10 +64,21 @@ impl Stencil {
     #[inline(always)]
     pub fn push(&mut self, node: usize, weight: f64, gradient: [f64; 2]) {
         debug_assert!(self.len < MAX_STENCIL);
-        self.node[self.len] = node as u32;
-        self.weight[self.len] = weight;
-        self.gradient[self.len] = gradient;
+        // A scheme never writes more than MAX_STENCIL (a power of two) entries, so the mask
+        // changes nothing; it lets the compiler drop the three bounds checks of every push.
+        let k = self.len & (MAX_STENCIL - 1);
+        self.node[k] = node as u32;
+        self.weight[k] = weight;
+        self.gradient[k] = gradient;
         self.len += 1;
+    }
+
+    /// The entries (node, S_ip, ∇S_ip) in order, as one iterator over exact-length slices
+    /// (no bounds check per entry in the solver loops).
+    #[inline(always)]
+    pub fn entries(&self) -> impl Iterator<Item = (usize, f64, [f64; 2])> + '_ {
+        let n = self.len.min(MAX_STENCIL);
+        self.node[..n].iter().zip(&self.weight[..n]).zip(&self.gradient[..n]).map(|((&node, &w), &g)| (node as usize, w, g))
     }
 
     /// Sets the node box to the nodes of the point's cell (those [`CellPoint::visit_nodes`] can
