@@ -233,17 +233,31 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
         lane.clear(nodes_x);
         let mut st = Stencil::default();
         let mut touched = NodeBox::EMPTY;
+        // The lane's particles as slices of one length, so the loop indexes without bounds checks.
+        let n = lane_cache.len();
+        let first = k * len;
+        let position = &particles.position[first..first + n];
+        let initial_half_width = &particles.initial_half_width[first..first + n];
+        let deformation_gradient = &particles.deformation_gradient[first..first + n];
+        let mass = &particles.mass[first..first + n];
+        let velocity = &particles.velocity[first..first + n];
+        let volume = &particles.volume[first..first + n];
+        let stress = &particles.stress[first..first + n];
         for (i, c) in lane_cache.iter_mut().enumerate() {
-            let p = k * len + i;
-            let domain = ParticleDomain::of(particles, p);
+            let domain = ParticleDomain {
+                position: position[i],
+                initial_half_width: initial_half_width[i],
+                deformation_gradient: &deformation_gradient[i],
+                corners: particles.corners.get(first + i),
+            };
             *c = S::prepare(grid, &domain, F::AXISYMMETRIC);
             S::expand(grid, c, &domain, F::AXISYMMETRIC, &mut st);
             touched.include(&st);
-            let m = particles.mass[p];
-            let v = particles.velocity[p];
-            let vol = particles.volume[p];
-            let s = particles.stress[p];
-            let hoop = F::hoop_factor(particles.position[p]);
+            let m = mass[i];
+            let v = velocity[i];
+            let vol = volume[i];
+            let s = stress[i];
+            let hoop = F::hoop_factor(position[i]);
             for (node, w, g) in st.entries() {
                 let sums = &mut lane.nodes[node];
                 sums.mass += w * m;
@@ -383,15 +397,22 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
             }
             let mut touched = NodeBox::EMPTY;
             let mut st = Stencil::default();
+            // The lane's particles as slices of one length (no bounds checks in the loop).
+            let n = velocity_io.len();
+            let first = k * len;
+            let position = &position[first..first + n];
+            let initial_half_width = &initial_half_width[first..first + n];
+            let deformation_gradient = &deformation_gradient[first..first + n];
+            let mass = &mass[first..first + n];
+            let cache = &cache[first..first + n];
             for (i, (v_io, dx)) in velocity_io.iter_mut().zip(displacement_out.iter_mut()).enumerate() {
-                let p = k * len + i;
                 let domain = ParticleDomain {
-                    position: position[p],
-                    initial_half_width: initial_half_width[p],
-                    deformation_gradient: &deformation_gradient[p],
-                    corners: corners.get(p),
+                    position: position[i],
+                    initial_half_width: initial_half_width[i],
+                    deformation_gradient: &deformation_gradient[i],
+                    corners: corners.get(first + i),
                 };
-                S::expand(grid, &cache[p], &domain, F::AXISYMMETRIC, &mut st);
+                S::expand(grid, &cache[i], &domain, F::AXISYMMETRIC, &mut st);
                 let mut v_grid = [0.0; 2];
                 let mut dv = [0.0; 2];
                 for (node, w, _) in st.entries() {
@@ -411,7 +432,7 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
                     touched.include(&st);
-                    let m = mass[p];
+                    let m = mass[i];
                     for (node, w, _) in st.entries() {
                         let sums = &mut lane.nodes[node];
                         let wm = w * m;
