@@ -250,7 +250,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 deformation_gradient: &deformation_gradient[i],
                 corners: particles.corners.get(first + i),
             };
-            *c = S::prepare(grid, &domain, F::AXISYMMETRIC);
+            S::prepare(grid, &domain, F::AXISYMMETRIC, c);
             S::expand(grid, c, &domain, F::AXISYMMETRIC, &mut st);
             touched.include(&st);
             let m = mass[i];

@@ -75,10 +75,11 @@ impl ShapeFunction for Cpdi2 {
     type Cache = Cpdi2Cache;
 
     #[inline(always)]
-    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> Cpdi2Cache {
-        let mut cache = Cpdi2Cache { linear_fallback: true, ..Default::default() };
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Cpdi2Cache) {
+        // Written field by field, in place; the corner fields are only read without fallback.
+        cache.linear_fallback = true;
         let Some(&corners) = domain.corners else {
-            return cache;
+            return;
         };
         let mut c = corners;
         if axisymmetric {
@@ -88,14 +89,13 @@ impl ShapeFunction for Cpdi2 {
         }
         let (w, wg, v) = corner_weights(&c);
         if v > 0.0 && v.is_finite() {
-            cache = Cpdi2Cache {
-                corners: c.map(|x| CellPoint::locate(grid, x)),
-                weight: w,
-                gradient_weight: wg,
-                linear_fallback: false,
-            };
+            for (located, x) in cache.corners.iter_mut().zip(c) {
+                *located = CellPoint::locate(grid, x);
+            }
+            cache.weight = w;
+            cache.gradient_weight = wg;
+            cache.linear_fallback = false;
         }
-        cache
     }
 
     #[inline(always)]

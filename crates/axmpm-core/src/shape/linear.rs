@@ -16,7 +16,7 @@ impl ShapeFunction for Linear {
 
     #[inline(always)]
     #[allow(clippy::manual_clamp)] // `max` before `min` maps NaN to 0, like `fast_floor`
-    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, _: bool) -> LinearCache {
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, _: bool, cache: &mut LinearCache) {
         // Particles are always inside the grid (the step fails as soon as one leaves it), so the
         // cell index is clamped to the grid instead of testing every node: all 4 nodes exist.
         // The clamp only matters for a particle exactly on the upper edge, which then gets
@@ -24,7 +24,7 @@ impl ShapeFunction for Linear {
         let l = grid.local(domain.position);
         let ci = fast_floor(l[0]).max(0.0).min((grid.cells[0] - 1) as f64);
         let cj = fast_floor(l[1]).max(0.0).min((grid.cells[1] - 1) as f64);
-        LinearCache { cell: [ci as u32, cj as u32], fraction: [l[0] - ci, l[1] - cj] }
+        *cache = LinearCache { cell: [ci as u32, cj as u32], fraction: [l[0] - ci, l[1] - cj] };
     }
 
     /// The 4 nodes of the particle's cell, in the order of [`bilinear_nodes`] (row by row),

@@ -148,8 +148,9 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// expensive part of the stencil is computed once per step (GIMP: the 1D weights).
     type Cache: Copy + Default + Send + Sync + 'static;
 
-    /// The cacheable part of the stencil of a particle domain.
-    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> Self::Cache;
+    /// Writes the cacheable part of the stencil of a particle domain into `cache` (in place:
+    /// a GIMP or CPDI2 cache is 150–200 bytes, and returning it by value costs a memcpy call).
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Self::Cache);
 
     /// Writes the stencil from `cache`, made by [`ShapeFunction::prepare`] for the same
     /// domain at the start of the step (schemes without a cache evaluate `domain`).
@@ -159,7 +160,9 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// `axisymmetric` asks for domains truncated at the axis r = 0.
     #[inline(always)]
     fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
-        Self::expand(grid, &Self::prepare(grid, domain, axisymmetric), domain, axisymmetric, out)
+        let mut cache = Self::Cache::default();
+        Self::prepare(grid, domain, axisymmetric, &mut cache);
+        Self::expand(grid, &cache, domain, axisymmetric, out)
     }
 
     /// [`ShapeFunction::stencil_at`] for particle `p` of `particles`.
