@@ -47,8 +47,33 @@ pub struct NodeBox {
     pub rows: [usize; 2],
 }
 
+impl Default for NodeBox {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
 impl NodeBox {
     pub const EMPTY: Self = Self { columns: [usize::MAX, 0], rows: [usize::MAX, 0] };
+
+    /// The smallest box containing both.
+    #[inline(always)]
+    fn union(self, other: NodeBox) -> NodeBox {
+        NodeBox {
+            columns: [self.columns[0].min(other.columns[0]), self.columns[1].max(other.columns[1])],
+            rows: [self.rows[0].min(other.rows[0]), self.rows[1].max(other.rows[1])],
+        }
+    }
+
+    /// Rows of the box as (first row, number of rows), for `skip`/`take` over row chunks.
+    #[inline(always)]
+    fn row_span(&self) -> (usize, usize) {
+        if self.is_empty() {
+            (0, 0)
+        } else {
+            (self.rows[0], self.rows[1] - self.rows[0] + 1)
+        }
+    }
 
     #[inline(always)]
     fn is_empty(&self) -> bool {
@@ -97,6 +122,13 @@ pub struct Scratch {
     /// step in particle → grid and reused by grid → particle and the particle update.
     pub stencil_cache: Option<Box<dyn std::any::Any + Send + Sync>>,
     pub displacement: Vec<[f64; 2]>,
+    /// Nodes the particles reached in the last particle → grid: every grid field is +0
+    /// outside this box (the grid passes write nothing else there, and constraints keep a
+    /// zero velocity zero).
+    pub grid_reached: NodeBox,
+    /// Nodes the grid passes of this step work on: this step's reach together with the last
+    /// step's, whose fields must be brought back to zero where the particles left.
+    pub grid_region: NodeBox,
 }
 
 /// Parameters of the step that do not change during a run.
@@ -270,12 +302,17 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
         }
         lane.touched = touched;
     });
-    sum_lanes(&state.lanes, grid.nodes[0], &mut state.fields, true);
+    let reached = state.lanes.iter().fold(NodeBox::EMPTY, |b, lane| b.union(lane.touched));
+    state.scratch.grid_region = reached.union(state.scratch.grid_reached);
+    state.scratch.grid_reached = reached;
+    sum_lanes(&state.lanes, grid.nodes[0], state.scratch.grid_region, &mut state.fields, true);
 }
 
 /// Sums the lanes node by node in lane order into the grid fields: momentum always, mass and
 /// force when `all` (the MUSL re-map only scatters momentum).
-fn sum_lanes(lanes: &[Lane], nodes_x: usize, fields: &mut GridFields, all: bool) {
+/// Only `region` is zeroed first: outside it the fields are zero already (see
+/// [`Scratch::grid_reached`]) and no lane reaches there.
+fn sum_lanes(lanes: &[Lane], nodes_x: usize, region: NodeBox, fields: &mut GridFields, all: bool) {
     // Whole grid rows per parallel chunk, about 4096 nodes.
     let rows_per_chunk = (4096 / nodes_x).max(1);
     let chunk = rows_per_chunk * nodes_x;
@@ -293,10 +330,15 @@ fn sum_lanes(lanes: &[Lane], nodes_x: usize, fields: &mut GridFields, all: bool)
             let start = c * chunk;
             let first_row = c * rows_per_chunk;
             let last_row = first_row + mass.len() / nodes_x - 1;
-            momentum.fill([0.0; 2]);
-            if all {
-                mass.fill(0.0);
-                force.fill([0.0; 2]);
+            if !region.is_empty() {
+                for j in region.rows[0].max(first_row)..=region.rows[1].min(last_row) {
+                    let local = j * nodes_x - start + region.columns[0]..=j * nodes_x - start + region.columns[1];
+                    momentum[local.clone()].fill([0.0; 2]);
+                    if all {
+                        mass[local.clone()].fill(0.0);
+                        force[local].fill([0.0; 2]);
+                    }
+                }
             }
             for lane in lanes {
                 let b = lane.touched;
@@ -334,14 +376,25 @@ fn sum_lanes(lanes: &[Lane], nodes_x: usize, fields: &mut GridFields, all: bool)
 fn update_grid(state: &mut State, dt: f64) {
     let params = state.parameters;
     let fields = &mut state.fields;
+    // Row by row over the region of this step (elsewhere every field is zero and stays so).
+    let region = state.scratch.grid_region;
+    let nx = state.grid.nodes[0];
+    let (first_row, rows) = region.row_span();
+    let columns = region.columns[0]..=region.columns[1].min(nx - 1);
     fields
         .velocity
-        .par_iter_mut()
-        .zip(fields.velocity_new.par_iter_mut())
-        .zip(fields.mass.par_iter())
-        .zip(fields.momentum.par_iter())
-        .zip(fields.force.par_iter())
-        .with_min_len(1024)
+        .par_chunks_mut(nx)
+        .zip(fields.velocity_new.par_chunks_mut(nx))
+        .zip(fields.mass.par_chunks(nx))
+        .zip(fields.momentum.par_chunks(nx))
+        .zip(fields.force.par_chunks(nx))
+        .skip(first_row)
+        .take(rows)
+        .with_min_len(4)
+        .flat_map_iter(|((((v, v_new), m), p), f)| {
+            let c = columns.clone();
+            v[c.clone()].iter_mut().zip(&mut v_new[c.clone()]).zip(&m[c.clone()]).zip(&p[c.clone()]).zip(&f[c])
+        })
         .for_each(|((((v, v_new), &m), p), f)| {
             if m > params.mass_threshold {
                 let v0 = [p[0] / m, p[1] / m];
@@ -446,7 +499,7 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
             }
         });
     if musl {
-        sum_lanes(&state.lanes, grid.nodes[0], &mut state.fields, false);
+        sum_lanes(&state.lanes, grid.nodes[0], state.scratch.grid_region, &mut state.fields, false);
         remap_velocity(state);
     }
 }
@@ -455,11 +508,24 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
 fn remap_velocity(state: &mut State) {
     let threshold = state.parameters.mass_threshold;
     let fields = &mut state.fields;
-    fields.velocity.par_iter_mut().zip(fields.mass.par_iter()).zip(fields.momentum.par_iter()).with_min_len(1024).for_each(
-        |((v, &m), p)| {
-            *v = if m > threshold { [p[0] / m, p[1] / m] } else { [0.0; 2] };
-        },
-    );
+    let region = state.scratch.grid_region;
+    let nx = state.grid.nodes[0];
+    let (first_row, rows) = region.row_span();
+    let columns = region.columns[0]..=region.columns[1].min(nx - 1);
+    fields
+        .velocity
+        .par_chunks_mut(nx)
+        .zip(fields.mass.par_chunks(nx))
+        .zip(fields.momentum.par_chunks(nx))
+        .skip(first_row)
+        .take(rows)
+        .with_min_len(4)
+        .for_each(|((v, m), p)| {
+            let c = columns.clone();
+            for ((v, &m), p) in v[c.clone()].iter_mut().zip(&m[c.clone()]).zip(&p[c]) {
+                *v = if m > threshold { [p[0] / m, p[1] / m] } else { [0.0; 2] };
+            }
+        });
     state.constraints.apply(state.time, &mut fields.velocity);
 }
 
