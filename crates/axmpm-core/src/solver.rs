@@ -30,36 +30,88 @@ use crate::shape::{ParticleDomain, ShapeFunction, Stencil};
 /// Number of particle ranges scattered independently in particle → grid.
 pub const LANES: usize = 8;
 
-/// Nodal buffers of one lane. Only the node range `touched` (inclusive bounds on the node
-/// index) can be non-zero, so clearing and summing the lanes costs in proportion to the
-/// region the lane's particles cover, not to the whole grid.
+/// What particle → grid accumulates at one node. The fields of a node are kept together so
+/// that scattering a particle touches one cache line per node instead of one per field.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NodalSums {
+    pub mass: f64,
+    pub momentum: [f64; 2],
+    pub force: [f64; 2],
+}
+
+/// An inclusive box of grid nodes: columns `columns[0] ..= columns[1]`, rows
+/// `rows[0] ..= rows[1]`; empty when a lower bound exceeds its upper bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeBox {
+    pub columns: [usize; 2],
+    pub rows: [usize; 2],
+}
+
+impl Default for NodeBox {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl NodeBox {
+    pub const EMPTY: Self = Self { columns: [usize::MAX, 0], rows: [usize::MAX, 0] };
+
+    /// The smallest box containing both.
+    #[inline(always)]
+    fn union(self, other: NodeBox) -> NodeBox {
+        NodeBox {
+            columns: [self.columns[0].min(other.columns[0]), self.columns[1].max(other.columns[1])],
+            rows: [self.rows[0].min(other.rows[0]), self.rows[1].max(other.rows[1])],
+        }
+    }
+
+    /// Rows of the box as (first row, number of rows), for `skip`/`take` over row chunks.
+    #[inline(always)]
+    fn row_span(&self) -> (usize, usize) {
+        if self.is_empty() {
+            (0, 0)
+        } else {
+            (self.rows[0], self.rows[1] - self.rows[0] + 1)
+        }
+    }
+
+    #[inline(always)]
+    fn is_empty(&self) -> bool {
+        self.columns[0] > self.columns[1] || self.rows[0] > self.rows[1]
+    }
+
+    /// Grows the box to contain the stencil's node box.
+    #[inline(always)]
+    fn include(&mut self, st: &Stencil) {
+        self.columns = [self.columns[0].min(st.columns[0] as usize), self.columns[1].max(st.columns[1] as usize)];
+        self.rows = [self.rows[0].min(st.rows[0] as usize), self.rows[1].max(st.rows[1] as usize)];
+    }
+}
+
+/// Nodal buffers of one lane. Only the nodes in the box `touched` can be non-zero, so clearing
+/// and summing the lanes costs in proportion to the region the lane's particles cover, not to
+/// the whole grid (nor to whole grid rows).
 #[derive(Clone, Debug)]
 pub struct Lane {
-    pub mass: Vec<f64>,
-    pub momentum: Vec<[f64; 2]>,
-    pub force: Vec<[f64; 2]>,
-    pub touched: (usize, usize),
+    pub nodes: Vec<NodalSums>,
+    pub touched: NodeBox,
 }
 
 impl Lane {
     fn new(num_nodes: usize) -> Self {
-        Self {
-            mass: vec![0.0; num_nodes],
-            momentum: vec![[0.0; 2]; num_nodes],
-            force: vec![[0.0; 2]; num_nodes],
-            touched: (usize::MAX, 0),
-        }
+        Self { nodes: vec![NodalSums::default(); num_nodes], touched: NodeBox::EMPTY }
     }
 
-    /// Zeroes the buffers where the previous scatter wrote.
-    fn clear(&mut self) {
-        let (lo, hi) = self.touched;
-        if lo <= hi {
-            self.mass[lo..=hi].fill(0.0);
-            self.momentum[lo..=hi].fill([0.0; 2]);
-            self.force[lo..=hi].fill([0.0; 2]);
+    /// Zeroes the buffers where the previous scatter wrote (`nodes_x` nodes per grid row).
+    fn clear(&mut self, nodes_x: usize) {
+        let b = self.touched;
+        if !b.is_empty() {
+            for j in b.rows[0]..=b.rows[1] {
+                let row = j * nodes_x;
+                self.nodes[row + b.columns[0]..=row + b.columns[1]].fill(NodalSums::default());
+            }
         }
-        self.touched = (usize::MAX, 0);
+        self.touched = NodeBox::EMPTY;
     }
 }
 
@@ -75,6 +127,13 @@ pub struct Scratch {
     pub velocity_gradient: Vec<[f64; 5]>,
     pub cell_volume: Vec<f64>,
     pub cell_dilatation: Vec<f64>,
+    /// Nodes the particles reached in the last particle → grid: every grid field is +0
+    /// outside this box (the grid passes write nothing else there, and constraints keep a
+    /// zero velocity zero).
+    pub grid_reached: NodeBox,
+    /// Nodes the grid passes of this step work on: this step's reach together with the last
+    /// step's, whose fields must be brought back to zero where the particles left.
+    pub grid_region: NodeBox,
 }
 
 /// Parameters of the step that do not change during a run.
@@ -213,80 +272,112 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let particles = &state.particles;
     let grid = &state.grid;
     let len = lane_length(particles.len());
+    let nodes_x = grid.nodes[0];
     cache.par_chunks_mut(len).zip(state.lanes.par_iter_mut()).enumerate().for_each(|(k, (lane_cache, lane))| {
-        lane.clear();
+        lane.clear(nodes_x);
         let mut st = Stencil::default();
-        let (mut lo, mut hi) = (usize::MAX, 0usize);
+        let mut touched = NodeBox::EMPTY;
+        // The lane's particles as slices of one length, so the loop indexes without bounds checks.
+        let n = lane_cache.len();
+        let first = k * len;
+        let position = &particles.position[first..first + n];
+        let initial_half_width = &particles.initial_half_width[first..first + n];
+        let deformation_gradient = &particles.deformation_gradient[first..first + n];
+        let mass = &particles.mass[first..first + n];
+        let velocity = &particles.velocity[first..first + n];
+        let volume = &particles.volume[first..first + n];
+        let stress = &particles.stress[first..first + n];
         for (i, c) in lane_cache.iter_mut().enumerate() {
-            let p = k * len + i;
-            let domain = ParticleDomain::of(particles, p);
-            *c = S::prepare(grid, &domain, F::AXISYMMETRIC);
+            let domain = ParticleDomain {
+                position: position[i],
+                initial_half_width: initial_half_width[i],
+                deformation_gradient: &deformation_gradient[i],
+                corners: particles.corners.get(first + i),
+            };
+            S::prepare(grid, &domain, F::AXISYMMETRIC, c);
             S::expand(grid, c, &domain, F::AXISYMMETRIC, &mut st);
-            let m = particles.mass[p];
-            let v = particles.velocity[p];
-            for e in 0..st.len {
-                let node = st.node[e] as usize;
-                lo = lo.min(node);
-                hi = hi.max(node);
-                let w = st.weight[e];
-                lane.mass[node] += w * m;
-                lane.momentum[node][0] += w * m * v[0];
-                lane.momentum[node][1] += w * m * v[1];
-            }
-            let vol = particles.volume[p];
-            let s = particles.stress[p];
-            let hoop = F::hoop_factor(particles.position[p]);
-            for e in 0..st.len {
-                let node = st.node[e] as usize;
-                let w = st.weight[e];
-                let g = st.gradient[e];
+            touched.include(&st);
+            let m = mass[i];
+            let v = velocity[i];
+            let vol = volume[i];
+            let s = stress[i];
+            let hoop = F::hoop_factor(position[i]);
+            for (node, w, g) in st.entries() {
+                let sums = &mut lane.nodes[node];
+                sums.mass += w * m;
+                sums.momentum[0] += w * m * v[0];
+                sums.momentum[1] += w * m * v[1];
                 // Internal force (Sulsky & Schreyer 1996, PHYSICS.md §2) plus gravity.
-                lane.force[node][0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
-                lane.force[node][1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
+                sums.force[0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
+                sums.force[1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
             }
         }
-        lane.touched = (lo, hi);
+        lane.touched = touched;
     });
-    sum_lanes(&state.lanes, &mut state.fields, true);
+    let reached = state.lanes.iter().fold(NodeBox::EMPTY, |b, lane| b.union(lane.touched));
+    state.scratch.grid_region = reached.union(state.scratch.grid_reached);
+    state.scratch.grid_reached = reached;
+    sum_lanes(&state.lanes, grid.nodes[0], state.scratch.grid_region, &mut state.fields, true);
 }
 
 /// Sums the lanes node by node in lane order into the grid fields: momentum always, mass and
 /// force when `all` (the MUSL re-map only scatters momentum).
-fn sum_lanes(lanes: &[Lane], fields: &mut GridFields, all: bool) {
-    const CHUNK: usize = 4096;
+/// Only `region` is zeroed first: outside it the fields are zero already (see
+/// [`Scratch::grid_reached`]) and no lane reaches there.
+fn sum_lanes(lanes: &[Lane], nodes_x: usize, region: NodeBox, fields: &mut GridFields, all: bool) {
+    // Whole grid rows per parallel chunk, about 4096 nodes.
+    let rows_per_chunk = (4096 / nodes_x).max(1);
+    let chunk = rows_per_chunk * nodes_x;
     fields
         .mass
-        .par_chunks_mut(CHUNK)
-        .zip(fields.momentum.par_chunks_mut(CHUNK))
-        .zip(fields.force.par_chunks_mut(CHUNK))
+        .par_chunks_mut(chunk)
+        .zip(fields.momentum.par_chunks_mut(chunk))
+        .zip(fields.force.par_chunks_mut(chunk))
         .enumerate()
         .for_each(|(c, ((mass, momentum), force))| {
             // Start from zero and add each lane's touched part of this chunk, in lane order:
             // every node is summed as 0 + lane0 + lane1 + ..., independent of the threads.
-            let start = c * CHUNK;
-            let end = start + mass.len();
-            momentum.fill([0.0; 2]);
-            if all {
-                mass.fill(0.0);
-                force.fill([0.0; 2]);
+            // (A lane adds nothing outside its box, where it holds +0, and adding +0 to a sum
+            // that started at +0 never changes it, so skipping those nodes is exact.)
+            let start = c * chunk;
+            let first_row = c * rows_per_chunk;
+            let last_row = first_row + mass.len() / nodes_x - 1;
+            if !region.is_empty() {
+                for j in region.rows[0].max(first_row)..=region.rows[1].min(last_row) {
+                    let local = j * nodes_x - start + region.columns[0]..=j * nodes_x - start + region.columns[1];
+                    momentum[local.clone()].fill([0.0; 2]);
+                    if all {
+                        mass[local.clone()].fill(0.0);
+                        force[local].fill([0.0; 2]);
+                    }
+                }
             }
             for lane in lanes {
-                let lo = lane.touched.0.max(start);
-                let hi = (lane.touched.1 + 1).min(end);
-                if lo >= hi {
+                let b = lane.touched;
+                if b.is_empty() {
                     continue;
                 }
-                for node in lo..hi {
-                    let i = node - start;
-                    momentum[i][0] += lane.momentum[node][0];
-                    momentum[i][1] += lane.momentum[node][1];
-                }
-                if all {
-                    for node in lo..hi {
-                        let i = node - start;
-                        mass[i] += lane.mass[node];
-                        force[i][0] += lane.force[node][0];
-                        force[i][1] += lane.force[node][1];
+                for j in b.rows[0].max(first_row)..=b.rows[1].min(last_row) {
+                    let row = j * nodes_x;
+                    let nodes = &lane.nodes[row + b.columns[0]..=row + b.columns[1]];
+                    let local = row - start + b.columns[0]..=row - start + b.columns[1];
+                    if all {
+                        let out = mass[local.clone()]
+                            .iter_mut()
+                            .zip(&mut momentum[local.clone()])
+                            .zip(&mut force[local]);
+                        for (((m, p), f), sums) in out.zip(nodes) {
+                            *m += sums.mass;
+                            p[0] += sums.momentum[0];
+                            p[1] += sums.momentum[1];
+                            f[0] += sums.force[0];
+                            f[1] += sums.force[1];
+                        }
+                    } else {
+                        for (p, sums) in momentum[local].iter_mut().zip(nodes) {
+                            p[0] += sums.momentum[0];
+                            p[1] += sums.momentum[1];
+                        }
                     }
                 }
             }
@@ -297,14 +388,25 @@ fn sum_lanes(lanes: &[Lane], fields: &mut GridFields, all: bool) {
 fn update_grid(state: &mut State, dt: f64) {
     let params = state.parameters;
     let fields = &mut state.fields;
+    // Row by row over the region of this step (elsewhere every field is zero and stays so).
+    let region = state.scratch.grid_region;
+    let nx = state.grid.nodes[0];
+    let (first_row, rows) = region.row_span();
+    let columns = region.columns[0]..=region.columns[1].min(nx - 1);
     fields
         .velocity
-        .par_iter_mut()
-        .zip(fields.velocity_new.par_iter_mut())
-        .zip(fields.mass.par_iter())
-        .zip(fields.momentum.par_iter())
-        .zip(fields.force.par_iter())
-        .with_min_len(1024)
+        .par_chunks_mut(nx)
+        .zip(fields.velocity_new.par_chunks_mut(nx))
+        .zip(fields.mass.par_chunks(nx))
+        .zip(fields.momentum.par_chunks(nx))
+        .zip(fields.force.par_chunks(nx))
+        .skip(first_row)
+        .take(rows)
+        .with_min_len(4)
+        .flat_map_iter(|((((v, v_new), m), p), f)| {
+            let c = columns.clone();
+            v[c.clone()].iter_mut().zip(&mut v_new[c.clone()]).zip(&m[c.clone()]).zip(&p[c.clone()]).zip(&f[c])
+        })
         .for_each(|((((v, v_new), &m), p), f)| {
             if m > params.mass_threshold {
                 let v0 = [p[0] / m, p[1] / m];
@@ -356,24 +458,29 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
         .enumerate()
         .for_each(|(k, ((velocity_io, displacement_out), lane))| {
             if musl {
-                lane.clear();
+                lane.clear(grid.nodes[0]);
             }
-            let (mut lo, mut hi) = (usize::MAX, 0usize);
+            let mut touched = NodeBox::EMPTY;
             let mut st = Stencil::default();
+            // The lane's particles as slices of one length (no bounds checks in the loop).
+            let n = velocity_io.len();
+            let first = k * len;
+            let position = &position[first..first + n];
+            let initial_half_width = &initial_half_width[first..first + n];
+            let deformation_gradient = &deformation_gradient[first..first + n];
+            let mass = &mass[first..first + n];
+            let cache = &cache[first..first + n];
             for (i, (v_io, dx)) in velocity_io.iter_mut().zip(displacement_out.iter_mut()).enumerate() {
-                let p = k * len + i;
                 let domain = ParticleDomain {
-                    position: position[p],
-                    initial_half_width: initial_half_width[p],
-                    deformation_gradient: &deformation_gradient[p],
-                    corners: corners.get(p),
+                    position: position[i],
+                    initial_half_width: initial_half_width[i],
+                    deformation_gradient: &deformation_gradient[i],
+                    corners: corners.get(first + i),
                 };
-                S::expand(grid, &cache[p], &domain, F::AXISYMMETRIC, &mut st);
+                S::expand(grid, &cache[i], &domain, F::AXISYMMETRIC, &mut st);
                 let mut v_grid = [0.0; 2];
                 let mut dv = [0.0; 2];
-                for e in 0..st.len {
-                    let node = st.node[e] as usize;
-                    let w = st.weight[e];
+                for (node, w, _) in st.entries() {
                     let vn = fields.velocity_new[node];
                     let vo = fields.velocity[node];
                     v_grid[0] += w * vn[0];
@@ -389,23 +496,22 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 *v_io = v_new;
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
-                    let m = mass[p];
-                    for e in 0..st.len {
-                        let node = st.node[e] as usize;
-                        lo = lo.min(node);
-                        hi = hi.max(node);
-                        let wm = st.weight[e] * m;
-                        lane.momentum[node][0] += wm * v_new[0];
-                        lane.momentum[node][1] += wm * v_new[1];
+                    touched.include(&st);
+                    let m = mass[i];
+                    for (node, w, _) in st.entries() {
+                        let sums = &mut lane.nodes[node];
+                        let wm = w * m;
+                        sums.momentum[0] += wm * v_new[0];
+                        sums.momentum[1] += wm * v_new[1];
                     }
                 }
             }
             if musl {
-                lane.touched = (lo, hi);
+                lane.touched = touched;
             }
         });
     if musl {
-        sum_lanes(&state.lanes, &mut state.fields, false);
+        sum_lanes(&state.lanes, grid.nodes[0], state.scratch.grid_region, &mut state.fields, false);
         remap_velocity(state);
     }
 }
@@ -414,11 +520,24 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
 fn remap_velocity(state: &mut State) {
     let threshold = state.parameters.mass_threshold;
     let fields = &mut state.fields;
-    fields.velocity.par_iter_mut().zip(fields.mass.par_iter()).zip(fields.momentum.par_iter()).with_min_len(1024).for_each(
-        |((v, &m), p)| {
-            *v = if m > threshold { [p[0] / m, p[1] / m] } else { [0.0; 2] };
-        },
-    );
+    let region = state.scratch.grid_region;
+    let nx = state.grid.nodes[0];
+    let (first_row, rows) = region.row_span();
+    let columns = region.columns[0]..=region.columns[1].min(nx - 1);
+    fields
+        .velocity
+        .par_chunks_mut(nx)
+        .zip(fields.mass.par_chunks(nx))
+        .zip(fields.momentum.par_chunks(nx))
+        .skip(first_row)
+        .take(rows)
+        .with_min_len(4)
+        .for_each(|((v, m), p)| {
+            let c = columns.clone();
+            for ((v, &m), p) in v[c.clone()].iter_mut().zip(&m[c.clone()]).zip(&p[c]) {
+                *v = if m > threshold { [p[0] / m, p[1] / m] } else { [0.0; 2] };
+            }
+        });
     state.constraints.apply(state.time, &mut fields.velocity);
 }
 

@@ -27,7 +27,7 @@
 //! - A degenerate or inverted quadrilateral (V ≤ 0 or not finite) falls back to the linear
 //!   hat at the particle position, so the solver does not divide by zero.
 
-use super::{bilinear_nodes, ParticleDomain, ShapeFunction, Stencil};
+use super::{bilinear_nodes, CellPoint, ParticleDomain, ShapeFunction, Stencil};
 use crate::grid::GridGeometry;
 
 pub struct Cpdi2;
@@ -55,27 +55,30 @@ fn corner_weights(c: &[[f64; 2]; 4]) -> ([f64; 4], [[f64; 2]; 4], f64) {
     (w, [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]], v)
 }
 
+/// What CPDI2 keeps of a particle between the passes of a step: its corners (start of the
+/// step, clamped to the axis) located in their cells and the corner weights, so the 16-entry
+/// stencil is expanded without recomputing them. The corners themselves move only at the end
+/// of the step ([`Cpdi2::advect_corners`]), after every pass has used the stencil.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Cpdi2Cache {
+    corners: [CellPoint; 4],
+    weight: [f64; 4],
+    gradient_weight: [[f64; 2]; 4],
+    /// No corners, or a degenerate quadrilateral: the linear hat at the particle position.
+    linear_fallback: bool,
+}
+
 impl ShapeFunction for Cpdi2 {
     const NAME: &'static str = "cpdi2";
     const USES_CORNERS: bool = true;
 
-    /// Nothing is cached: the whole stencil is cheap (linear) or follows the corners, which
-    /// move during the step (CPDI2), so `expand` evaluates it from the domain.
-    type Cache = ();
+    type Cache = Cpdi2Cache;
 
     #[inline(always)]
-    fn prepare(_: &GridGeometry, _: &ParticleDomain, _: bool) {}
-
-    #[inline(always)]
-    fn expand(grid: &GridGeometry, _: &(), domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
-        Self::stencil_at(grid, domain, axisymmetric, out)
-    }
-
-    #[inline(always)]
-    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
-        out.clear();
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Cpdi2Cache) {
+        // Written field by field, in place; the corner fields are only read without fallback.
+        cache.linear_fallback = true;
         let Some(&corners) = domain.corners else {
-            bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
             return;
         };
         let mut c = corners;
@@ -85,13 +88,31 @@ impl ShapeFunction for Cpdi2 {
             }
         }
         let (w, wg, v) = corner_weights(&c);
-        if !(v > 0.0 && v.is_finite()) {
+        if v > 0.0 && v.is_finite() {
+            for (located, x) in cache.corners.iter_mut().zip(c) {
+                *located = CellPoint::locate(grid, x);
+            }
+            cache.weight = w;
+            cache.gradient_weight = wg;
+            cache.linear_fallback = false;
+        }
+    }
+
+    #[inline(always)]
+    fn expand(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain, _: bool, out: &mut Stencil) {
+        out.clear();
+        if cache.linear_fallback {
+            out.set_box_of_cell(grid, &CellPoint::locate(grid, domain.position));
             bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
             return;
         }
+        out.set_box_of_cell(grid, &cache.corners[0]);
+        for corner in &cache.corners[1..] {
+            out.grow_box_to_cell(grid, corner);
+        }
         for k in 0..4 {
-            let (wk, gk) = (w[k], wg[k]);
-            bilinear_nodes(grid, c[k], |node, n, _| out.push(node, wk * n, [gk[0] * n, gk[1] * n]));
+            let (wk, gk) = (cache.weight[k], cache.gradient_weight[k]);
+            cache.corners[k].visit_nodes(grid, |node, n, _| out.push(node, wk * n, [gk[0] * n, gk[1] * n]));
         }
     }
 

@@ -30,10 +30,10 @@ impl ShapeFunction for CpGimp {
     type Cache = GimpCache;
 
     #[inline(always)]
-    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> GimpCache {
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut GimpCache) {
         let l0 = domain.initial_half_width;
         let f = domain.deformation_gradient;
-        gimp_axes(grid, domain.position, [l0[0] * f[0], l0[1] * f[3]], axisymmetric)
+        gimp_axes(grid, domain.position, [l0[0] * f[0], l0[1] * f[3]], axisymmetric, cache)
     }
 
     #[inline(always)]

@@ -11,33 +11,28 @@ pub struct Linear;
 impl ShapeFunction for Linear {
     const NAME: &'static str = "linear";
 
-    /// Nothing is cached: the whole stencil is cheap (linear) or follows the corners, which
-    /// move during the step (CPDI2), so `expand` evaluates it from the domain.
-    type Cache = ();
+    /// The particle's cell and its position in it, located once per step.
+    type Cache = LinearCache;
 
     #[inline(always)]
-    fn prepare(_: &GridGeometry, _: &ParticleDomain, _: bool) {}
-
-    #[inline(always)]
-    fn expand(grid: &GridGeometry, _: &(), domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
-        Self::stencil_at(grid, domain, axisymmetric, out)
+    #[allow(clippy::manual_clamp)] // `max` before `min` maps NaN to 0, like `fast_floor`
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, _: bool, cache: &mut LinearCache) {
+        // Particles are always inside the grid (the step fails as soon as one leaves it), so the
+        // cell index is clamped to the grid instead of testing every node: all 4 nodes exist.
+        // The clamp only matters for a particle exactly on the upper edge, which then gets
+        // weight 1 and a one-sided gradient from the last cell instead of a dropped node.
+        let l = grid.local(domain.position);
+        let ci = fast_floor(l[0]).max(0.0).min((grid.cells[0] - 1) as f64);
+        let cj = fast_floor(l[1]).max(0.0).min((grid.cells[1] - 1) as f64);
+        *cache = LinearCache { cell: [ci as u32, cj as u32], fraction: [l[0] - ci, l[1] - cj] };
     }
 
     /// The 4 nodes of the particle's cell, in the order of [`bilinear_nodes`] (row by row),
     /// with the same arithmetic, so the two agree bit for bit for any point inside the grid.
-    ///
-    /// Particles are always inside the grid (the step fails as soon as one leaves it), so the
-    /// cell index is clamped to the grid instead of testing every node: all 4 nodes exist. The
-    /// clamp only matters for a particle exactly on the upper edge, which then gets weight 1
-    /// and a one-sided gradient from the last cell instead of a dropped node.
     #[inline(always)]
-    #[allow(clippy::manual_clamp)] // `max` before `min` maps NaN to 0, like `fast_floor`
-    fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, _axisymmetric: bool, out: &mut Stencil) {
-        let l = grid.local(domain.position);
-        let ci = fast_floor(l[0]).max(0.0).min((grid.cells[0] - 1) as f64);
-        let cj = fast_floor(l[1]).max(0.0).min((grid.cells[1] - 1) as f64);
-        let fx = l[0] - ci;
-        let fy = l[1] - cj;
+    fn expand(grid: &GridGeometry, cache: &LinearCache, _: &ParticleDomain, _: bool, out: &mut Stencil) {
+        let [ci, cj] = cache.cell;
+        let [fx, fy] = cache.fraction;
         let ih = grid.inverse_cell_size;
         let wx = [1.0 - fx, fx];
         let wy = [1.0 - fy, fy];
@@ -54,7 +49,16 @@ impl ShapeFunction for Linear {
             }
         }
         out.len = 4;
+        out.columns = [ci, ci + 1];
+        out.rows = [cj, cj + 1];
     }
+}
+
+/// A particle located in its cell: the lower-left node (i, j) and the fractional position.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LinearCache {
+    cell: [u32; 2],
+    fraction: [f64; 2],
 }
 
 #[cfg(test)]

@@ -35,11 +35,23 @@ pub struct Stencil {
     pub node: [u32; MAX_STENCIL],
     pub weight: [f64; MAX_STENCIL],
     pub gradient: [[f64; 2]; MAX_STENCIL],
+    /// A box of grid nodes containing every entry: node columns `columns[0] ..= columns[1]`
+    /// and rows `rows[0] ..= rows[1]` (it may be larger than the entries need). Lets the
+    /// solver clear and sum only the part of a lane's nodal buffers that its particles reach.
+    pub columns: [u32; 2],
+    pub rows: [u32; 2],
 }
 
 impl Default for Stencil {
     fn default() -> Self {
-        Self { len: 0, node: [0; MAX_STENCIL], weight: [0.0; MAX_STENCIL], gradient: [[0.0; 2]; MAX_STENCIL] }
+        Self {
+            len: 0,
+            node: [0; MAX_STENCIL],
+            weight: [0.0; MAX_STENCIL],
+            gradient: [[0.0; 2]; MAX_STENCIL],
+            columns: [0; 2],
+            rows: [0; 2],
+        }
     }
 }
 
@@ -52,10 +64,38 @@ impl Stencil {
     #[inline(always)]
     pub fn push(&mut self, node: usize, weight: f64, gradient: [f64; 2]) {
         debug_assert!(self.len < MAX_STENCIL);
-        self.node[self.len] = node as u32;
-        self.weight[self.len] = weight;
-        self.gradient[self.len] = gradient;
+        // A scheme never writes more than MAX_STENCIL (a power of two) entries, so the mask
+        // changes nothing; it lets the compiler drop the three bounds checks of every push.
+        let k = self.len & (MAX_STENCIL - 1);
+        self.node[k] = node as u32;
+        self.weight[k] = weight;
+        self.gradient[k] = gradient;
         self.len += 1;
+    }
+
+    /// The entries (node, S_ip, ∇S_ip) in order, as one iterator over exact-length slices
+    /// (no bounds check per entry in the solver loops).
+    #[inline(always)]
+    pub fn entries(&self) -> impl Iterator<Item = (usize, f64, [f64; 2])> + '_ {
+        let n = self.len.min(MAX_STENCIL);
+        self.node[..n].iter().zip(&self.weight[..n]).zip(&self.gradient[..n]).map(|((&node, &w), &g)| (node as usize, w, g))
+    }
+
+    /// Sets the node box to the nodes of the point's cell (those [`CellPoint::visit_nodes`] can
+    /// visit), clamped to the grid.
+    #[inline(always)]
+    pub fn set_box_of_cell(&mut self, grid: &GridGeometry, point: &CellPoint) {
+        let (i, j) = point.clamped_cell(grid);
+        self.columns = [i, (i + 1).min(grid.cells[0] as u32)];
+        self.rows = [j, (j + 1).min(grid.cells[1] as u32)];
+    }
+
+    /// Grows the node box to contain the nodes of the point's cell.
+    #[inline(always)]
+    pub fn grow_box_to_cell(&mut self, grid: &GridGeometry, point: &CellPoint) {
+        let (i, j) = point.clamped_cell(grid);
+        self.columns = [self.columns[0].min(i), self.columns[1].max((i + 1).min(grid.cells[0] as u32))];
+        self.rows = [self.rows[0].min(j), self.rows[1].max((j + 1).min(grid.cells[1] as u32))];
     }
 
     /// Σ_i S_ip, 1 wherever the particle's support lies inside the grid (partition of unity).
@@ -108,8 +148,9 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// expensive part of the stencil is computed once per step (GIMP: the 1D weights).
     type Cache: Copy + Default + Send + Sync + 'static;
 
-    /// The cacheable part of the stencil of a particle domain.
-    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> Self::Cache;
+    /// Writes the cacheable part of the stencil of a particle domain into `cache` (in place:
+    /// a GIMP or CPDI2 cache is 150–200 bytes, and returning it by value costs a memcpy call).
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Self::Cache);
 
     /// Writes the stencil from `cache`, made by [`ShapeFunction::prepare`] for the same
     /// domain at the start of the step (schemes without a cache evaluate `domain`).
@@ -119,7 +160,9 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// `axisymmetric` asks for domains truncated at the axis r = 0.
     #[inline(always)]
     fn stencil_at(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
-        Self::expand(grid, &Self::prepare(grid, domain, axisymmetric), domain, axisymmetric, out)
+        let mut cache = Self::Cache::default();
+        Self::prepare(grid, domain, axisymmetric, &mut cache);
+        Self::expand(grid, &cache, domain, axisymmetric, out)
     }
 
     /// [`ShapeFunction::stencil_at`] for particle `p` of `particles`.
@@ -163,29 +206,74 @@ pub fn hat(xi: f64) -> (f64, f64) {
 /// physical units. Nodes outside the grid are skipped. Shared by the original MPM and by the
 /// corner evaluation of CPDI2.
 #[inline(always)]
-pub fn bilinear_nodes(grid: &GridGeometry, x: [f64; 2], mut visit: impl FnMut(usize, f64, [f64; 2])) {
-    let l = grid.local(x);
-    let ci = fast_floor(l[0]);
-    let cj = fast_floor(l[1]);
-    let fx = l[0] - ci;
-    let fy = l[1] - cj;
-    let ih = grid.inverse_cell_size;
-    let wx = [1.0 - fx, fx];
-    let wy = [1.0 - fy, fy];
-    let dx = [-ih, ih];
-    for b in 0..2 {
-        let j = cj as i64 + b as i64;
-        if j < 0 || j >= grid.nodes[1] as i64 {
-            continue;
+pub fn bilinear_nodes(grid: &GridGeometry, x: [f64; 2], visit: impl FnMut(usize, f64, [f64; 2])) {
+    CellPoint::locate(grid, x).visit_nodes(grid, visit)
+}
+
+/// A point located in the grid: the lower-left node (i, j) of its cell, possibly outside the
+/// grid, and its fractional position in the cell. It is all [`bilinear_nodes`] needs, so a
+/// located point can be kept (CPDI2 caches its corners) and its nodes visited later with the
+/// same arithmetic, bit for bit.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CellPoint {
+    pub cell: [i32; 2],
+    pub fraction: [f64; 2],
+}
+
+impl CellPoint {
+    #[inline(always)]
+    pub fn locate(grid: &GridGeometry, x: [f64; 2]) -> Self {
+        let l = grid.local(x);
+        let ci = fast_floor(l[0]);
+        let cj = fast_floor(l[1]);
+        // The cell index only decides which nodes exist; clamping it to [−2, nodes] keeps it in
+        // i32 and drops the same nodes (both nodes of a cell outside that range are off-grid).
+        let clamp = |c: f64, n: usize| c.max(-2.0).min(n as f64) as i32;
+        Self { cell: [clamp(ci, grid.nodes[0]), clamp(cj, grid.nodes[1])], fraction: [l[0] - ci, l[1] - cj] }
+    }
+
+    /// Visits the nodes of the cell inside the grid, row by row: (node, weight, gradient).
+    #[inline(always)]
+    pub fn visit_nodes(&self, grid: &GridGeometry, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+        let [fx, fy] = self.fraction;
+        let ih = grid.inverse_cell_size;
+        let wx = [1.0 - fx, fx];
+        let wy = [1.0 - fy, fy];
+        let dx = [-ih, ih];
+        let [ci, cj] = self.cell;
+        if ci >= 0 && cj >= 0 && (ci as usize) + 1 < grid.nodes[0] && (cj as usize) + 1 < grid.nodes[1] {
+            // The usual case, all 4 nodes in the grid: no test per node (same entries, same order).
+            let base = grid.node_index(ci as usize, cj as usize);
+            let nodes = [[base, base + 1], [base + grid.nodes[0], base + grid.nodes[0] + 1]];
+            for b in 0..2 {
+                for a in 0..2 {
+                    visit(nodes[b][a], wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
+                }
+            }
+            return;
         }
-        for a in 0..2 {
-            let i = ci as i64 + a as i64;
-            if i < 0 || i >= grid.nodes[0] as i64 {
+        for b in 0..2 {
+            let j = self.cell[1] as i64 + b as i64;
+            if j < 0 || j >= grid.nodes[1] as i64 {
                 continue;
             }
-            let node = grid.node_index(i as usize, j as usize);
-            visit(node, wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
+            for a in 0..2 {
+                let i = self.cell[0] as i64 + a as i64;
+                if i < 0 || i >= grid.nodes[0] as i64 {
+                    continue;
+                }
+                let node = grid.node_index(i as usize, j as usize);
+                visit(node, wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
+            }
         }
+    }
+
+    /// Lower-left node (column, row) of the cell, clamped to the grid's cells.
+    #[inline(always)]
+    fn clamped_cell(&self, grid: &GridGeometry) -> (u32, u32) {
+        let i = self.cell[0].clamp(0, grid.cells[0] as i32 - 1);
+        let j = self.cell[1].clamp(0, grid.cells[1] as i32 - 1);
+        (i as u32, j as u32)
     }
 }
 
@@ -268,6 +356,7 @@ pub(crate) mod testing {
                 let p = single_particle(x, half);
                 S::stencil(&g, &p, 0, axisymmetric, &mut st);
                 assert!((st.weight_sum() - 1.0).abs() < 1e-12, "{}: ΣS = {} at {:?}", S::NAME, st.weight_sum(), x);
+                check_box(&g, &st);
                 let gs = st.gradient_sum();
                 assert!(gs[0].abs() < 1e-10 && gs[1].abs() < 1e-10, "{}: Σ∇S = {:?} at {:?}", S::NAME, gs, x);
             }
@@ -282,8 +371,20 @@ pub(crate) mod testing {
             let p = single_particle(x, half);
             S::stencil(&g, &p, 0, axisymmetric, &mut st);
             assert!((st.weight_sum() - 1.0).abs() < 1e-12, "{}: ΣS = {} at {:?}", S::NAME, st.weight_sum(), x);
+            check_box(&g, &st);
             let gs = st.gradient_sum();
             assert!(gs[0].abs() < 1e-10 && gs[1].abs() < 1e-10, "{}: Σ∇S = {:?} at {:?}", S::NAME, gs, x);
+        }
+    }
+
+    /// Asserts that the stencil's node box lies in the grid and contains every entry.
+    pub fn check_box(g: &GridGeometry, st: &Stencil) {
+        assert!(st.columns[0] <= st.columns[1] && (st.columns[1] as usize) < g.nodes[0], "{:?}", st.columns);
+        assert!(st.rows[0] <= st.rows[1] && (st.rows[1] as usize) < g.nodes[1], "{:?}", st.rows);
+        for k in 0..st.len {
+            let (i, j) = (st.node[k] as usize % g.nodes[0], st.node[k] as usize / g.nodes[0]);
+            assert!((st.columns[0] as usize..=st.columns[1] as usize).contains(&i), "column {i} outside {:?}", st.columns);
+            assert!((st.rows[0] as usize..=st.rows[1] as usize).contains(&j), "row {j} outside {:?}", st.rows);
         }
     }
 

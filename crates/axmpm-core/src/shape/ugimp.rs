@@ -29,8 +29,8 @@ impl ShapeFunction for UGimp {
     type Cache = GimpCache;
 
     #[inline(always)]
-    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool) -> GimpCache {
-        gimp_axes(grid, domain.position, domain.initial_half_width, axisymmetric)
+    fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut GimpCache) {
+        gimp_axes(grid, domain.position, domain.initial_half_width, axisymmetric, cache)
     }
 
     #[inline(always)]
@@ -63,8 +63,10 @@ pub type GimpCache = [Axis1d; 2];
 /// the cost. The derivative is (N_i(β) − N_i(α)) / (β − α) · 1/h, which only touches the
 /// cells of the two domain ends.
 #[inline(always)]
-fn axis_weights(l: f64, lam: f64, n: usize, ih: f64) -> Axis1d {
-    let mut ax = Axis1d::default();
+fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
+    // Written in place; entries at and beyond `ax.len` are never read.
+    ax.first = 0;
+    ax.len = 0;
     let mut w = [0.0; 4];
     let mut d = [0.0; 4];
     let k0: i64;
@@ -125,7 +127,6 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64) -> Axis1d {
         ax.derivative[k] = d[c];
         ax.len += 1;
     }
-    ax
 }
 
 /// 1D GIMP weights of both directions for a particle at `x` with half-widths `half`
@@ -134,7 +135,7 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64) -> Axis1d {
 /// (see the module docs).
 #[inline(always)]
 #[allow(clippy::manual_clamp)] // `clamp` would propagate NaN; see below
-pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool) -> GimpCache {
+pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool, out: &mut GimpCache) {
     let ih = grid.inverse_cell_size;
     let l = grid.local(x);
     // `max` before `min` maps NaN to 0 (a point particle) instead of propagating it.
@@ -143,7 +144,8 @@ pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisym
         // R_p − origin_r in cell units is l[0].
         lam[0] = lam[0].min(l[0].max(0.0));
     }
-    [axis_weights(l[0], lam[0], grid.nodes[0], ih), axis_weights(l[1], lam[1], grid.nodes[1], ih)]
+    axis_weights(l[0], lam[0], grid.nodes[0], ih, &mut out[0]);
+    axis_weights(l[1], lam[1], grid.nodes[1], ih, &mut out[1]);
 }
 
 /// The 2D stencil as the tensor product of the 1D weights: S = S_x S_y,
@@ -152,6 +154,10 @@ pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisym
 pub(crate) fn gimp_tensor(grid: &GridGeometry, axes: &GimpCache, out: &mut Stencil) {
     out.clear();
     let [ax, ay] = axes;
+    // An axis keeps at least one node for a particle inside the grid; `max(1)` only guards
+    // the box arithmetic.
+    out.columns = [ax.first, ax.first + (ax.len.max(1) - 1) as u32];
+    out.rows = [ay.first, ay.first + (ay.len.max(1) - 1) as u32];
     for b in 0..ay.len as usize {
         let row = (ay.first as usize + b) * grid.nodes[0];
         let (wy, dy) = (ay.weight[b], ay.derivative[b]);
@@ -165,7 +171,9 @@ pub(crate) fn gimp_tensor(grid: &GridGeometry, axes: &GimpCache, out: &mut Stenc
 /// GIMP stencil of a particle at `x` with half-widths `half` (physical units).
 #[cfg(test)]
 pub(crate) fn gimp_stencil(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool, out: &mut Stencil) {
-    gimp_tensor(grid, &gimp_axes(grid, x, half, axisymmetric), out)
+    let mut axes = GimpCache::default();
+    gimp_axes(grid, x, half, axisymmetric, &mut axes);
+    gimp_tensor(grid, &axes, out)
 }
 
 #[cfg(test)]
