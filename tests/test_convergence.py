@@ -25,6 +25,12 @@ def test_richardson_flags_growth_and_oscillation():
     assert richardson([0.43, 0.59, 0.74], 2.0)["converging"] is False  # steps do not shrink
     assert richardson([0.40, 0.50, 0.45], 2.0)["converging"] is False  # sign change
     assert richardson([0.4, 0.5], 2.0)["converging"] is None  # two meshes: no estimate
+    assert richardson([0.43, 0.59, 0.60], 2.0)["converging"] is True
+
+
+def test_richardson_takes_round_off_changes_as_converged():
+    est = richardson([1e-16, -2e-17, 3e-17], 2.0)
+    assert est["converging"] is True and est["extrapolated"] == pytest.approx(0.0, abs=1e-15)
 
 
 def test_constant_ratio():

@@ -35,6 +35,8 @@ NAME = "convergence"
 
 DEFAULT_CELL_SIZES = (0.002, 0.001, 0.0005)
 
+#: Changes below this (relative) count as no change.
+ROUND_OFF = 1e-9
 #: Smallest observed order of convergence that is extrapolated.
 MIN_ORDER = 0.5
 
@@ -67,7 +69,8 @@ def richardson(values: list[float], ratio: float) -> dict[str, Any]:
         return {"converging": None, "order": None, "extrapolated": None}
     e1, e2, e3 = values[-3:]
     d12, d23 = e1 - e2, e2 - e3
-    if d23 == 0.0:
+    # Changes at round-off level (e.g. an undisturbed height reproduced exactly): converged.
+    if abs(d23) <= ROUND_OFF * max(1.0, abs(e3)):
         return {"converging": True, "order": None, "extrapolated": e3}
     if d12 == 0.0 or d12 * d23 < 0.0 or abs(d23) >= abs(d12):
         return {"converging": False, "order": None, "extrapolated": None}
