@@ -29,7 +29,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .validate import CASES, run_validation, split_overrides
+from .validate import CASES, parse_cases, run_validation, split_overrides
 
 NAME = "convergence"
 
@@ -249,10 +249,7 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
 def main(args: argparse.Namespace) -> int:
     from .errors import RunError
 
-    cases = [c.strip() for c in args.cases.split(",") if c.strip()]
-    unknown = [c for c in cases if c not in CASES]
-    if unknown:
-        raise RunError(f"unknown case(s) {', '.join(unknown)}; known: {', '.join(CASES)}")
+    cases = parse_cases(args.cases)
     try:
         sizes = [float(v) for v in args.cell_sizes.split(",") if v.strip()]
     except ValueError:

@@ -333,13 +333,19 @@ def split_overrides(items: list[str]) -> tuple[list[str], dict[str, Any]]:
     return scenario_items, builder
 
 
-def main(args: argparse.Namespace) -> int:
+def parse_cases(text: str) -> list[str]:
+    """``--cases``: comma-separated case names, each one of :data:`CASES`."""
     from .errors import RunError
 
-    cases = [c.strip() for c in args.cases.split(",") if c.strip()]
+    cases = [c.strip() for c in text.split(",") if c.strip()]
     unknown = [c for c in cases if c not in CASES]
     if unknown:
         raise RunError(f"unknown case(s) {', '.join(unknown)}; known: {', '.join(CASES)}")
+    return cases
+
+
+def main(args: argparse.Namespace) -> int:
+    cases = parse_cases(args.cases)
     overrides, builder = split_overrides(args.overrides)
     data = run_validation(args.out, cases, args.formulation, args.jobs or None, overrides, **builder)
     print(results_table(data["cases"]))

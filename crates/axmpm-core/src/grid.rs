@@ -59,6 +59,14 @@ impl GridGeometry {
         [(x[0] - self.origin[0]) * self.inverse_cell_size, (x[1] - self.origin[1]) * self.inverse_cell_size]
     }
 
+    /// Row-major number of the cell containing a point (clamped to the grid),
+    /// `j * cells_x + i`.
+    #[inline(always)]
+    pub fn cell_index(&self, x: [f64; 2]) -> usize {
+        let [i, j] = self.cell_of(x);
+        j * self.cells[0] + i
+    }
+
     /// Cell containing a point, clamped to the grid.
     #[inline(always)]
     pub fn cell_of(&self, x: [f64; 2]) -> [usize; 2] {

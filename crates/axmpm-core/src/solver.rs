@@ -75,6 +75,12 @@ impl NodeBox {
         }
     }
 
+    /// Columns of the box, clipped to a grid row of `nodes_x` nodes.
+    #[inline(always)]
+    fn column_span(&self, nodes_x: usize) -> std::ops::RangeInclusive<usize> {
+        self.columns[0]..=self.columns[1].min(nodes_x - 1)
+    }
+
     #[inline(always)]
     fn is_empty(&self) -> bool {
         self.columns[0] > self.columns[1] || self.rows[0] > self.rows[1]
@@ -392,7 +398,7 @@ fn update_grid(state: &mut State, dt: f64) {
     let region = state.scratch.grid_region;
     let nx = state.grid.nodes[0];
     let (first_row, rows) = region.row_span();
-    let columns = region.columns[0]..=region.columns[1].min(nx - 1);
+    let columns = region.column_span(nx);
     fields
         .velocity
         .par_chunks_mut(nx)
@@ -523,7 +529,7 @@ fn remap_velocity(state: &mut State) {
     let region = state.scratch.grid_region;
     let nx = state.grid.nodes[0];
     let (first_row, rows) = region.row_span();
-    let columns = region.columns[0]..=region.columns[1].min(nx - 1);
+    let columns = region.column_span(nx);
     fields
         .velocity
         .par_chunks_mut(nx)
@@ -721,8 +727,7 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
     let gradient = |p: usize, domain: &ParticleDomain, c: &S::Cache, st: &mut Stencil| match source {
         GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, domain, c, st),
         GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
-            let [i, j] = grid.cell_of(domain.position);
-            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[j * grid.cells[0] + i])
+            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[grid.cell_index(domain.position)])
         }
     };
     let state_len = |p: usize| inputs.materials[inputs.material_ids[p] as usize].state_names().len();
@@ -797,8 +802,7 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
     cell_volume.fill(0.0);
     cell_dilatation.fill(0.0);
     for ((x, &v), l) in particles.position.iter().zip(&particles.volume).zip(gradients.iter()) {
-        let [i, j] = grid.cell_of(*x);
-        let cell = j * grid.cells[0] + i;
+        let cell = grid.cell_index(*x);
         cell_volume[cell] += v;
         cell_dilatation[cell] += v * dilatation(l);
     }
