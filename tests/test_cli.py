@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import signal
 import subprocess
 import sys
@@ -230,3 +231,53 @@ def test_run_stops_once_at_rest(tmp_path):
     assert 0.5 <= summary["end_time"] < 50.0
     e = summary["energies"]
     assert e["kinetic_energy"] < 1e-4 * e["gravity_work"]
+
+
+def test_settled_rule_on_series():
+    """stop_when_settled compares the work of gravity over the last settle_window with the
+    total: a curve that has flattened is settled, one still rising or bouncing is not."""
+    from types import SimpleNamespace
+
+    from axmpm.runner import _settled
+
+    cfg = SimpleNamespace(stop_when_settled=1e-3, settle_window=0.1, stop_at_rest_after=0.2)
+    times = [0.02 * k for k in range(31)]
+    flat = [(t, 1.0 - math.exp(-t / 0.02)) for t in times]  # settled long before 0.6 s
+    rising = [(t, t) for t in times]
+    bouncing = [(t, 1.0 + 0.2 * math.sin(2 * math.pi * t / 0.14)) for t in times]
+    assert _settled(flat, 0.6, cfg)
+    assert not _settled(flat, 0.1, cfg)  # before stop_at_rest_after
+    assert not _settled(flat[:4], 0.06, SimpleNamespace(**(cfg.__dict__ | {"stop_at_rest_after": 0.0})))  # no window yet
+    assert not _settled(rising, 0.6, cfg)
+    assert not _settled(bouncing, 0.6, cfg)
+    assert not _settled(flat, 0.6, SimpleNamespace(**(cfg.__dict__ | {"stop_when_settled": 0.0})))  # off
+
+
+def test_run_stops_once_settled(tmp_path):
+    """With the kinetic-energy test off, stop_when_settled ends a damped block dropped on a
+    fixed base once it no longer moves down; without it the run goes to end_time."""
+    import axmpm
+
+    scenario = {
+        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": 20.0,
+                       "output_interval": 0.25, "gravity": [0.0, -10.0], "damping": 0.5,
+                       "flip_fraction": 1.0, "stop_when_settled": 1e-4, "settle_window": 1.0,
+                       "stop_at_rest_after": 0.5},
+        "grid": {"extent": [0.4, 0.4], "cell_size": 0.05},
+        "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1e5,
+                            "poisson_ratio": 0.3}},
+        "bodies": [{"material": "m", "min": [0.1, 0.0], "max": [0.3, 0.2]}],
+        "boundaries": {"bottom": "fixed"},
+    }
+    summary = axmpm.run(scenario, tmp_path / "settled")
+    assert summary["status"] == "completed" and summary["stopped_at_rest"] is True
+    assert 1.0 <= summary["end_time"] < 20.0  # at least one settle_window of history
+    import numpy as np
+
+    h = np.genfromtxt(tmp_path / "settled" / "history.csv", delimiter=",", names=True)
+    i = np.searchsorted(h["time"], h["time"][-1] - 1.0 - 1e-9)
+    assert abs(h["gravity_work"][-1] - h["gravity_work"][i]) < 1e-4 * h["gravity_work"][-1]
+    scenario["simulation"]["stop_when_settled"] = 0.0
+    scenario["simulation"]["end_time"] = 4.0
+    full = axmpm.run(scenario, tmp_path / "full")
+    assert full["stopped_at_rest"] is False and full["end_time"] == pytest.approx(4.0)

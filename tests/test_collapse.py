@@ -38,9 +38,15 @@ def test_rectangle_gives_its_radius_and_height(formulation):
     g = geom(formulation)
     x, v0, m = lattice(lambda r: 0.016, 0.03, formulation)
     met = particle_metrics(x, v0, m, g)
-    assert met["runout_radius"] == pytest.approx(0.03, abs=1e-12)
+    assert met["runout_radius_particle_edge"] == pytest.approx(0.03, abs=1e-12)
+    assert met["runout_normalised_particle_edge"] == pytest.approx(0.0, abs=1e-9)
+    # one-grain edge: the 2 mm thickness profile steps from H to 0 between the bin centres
+    # 29 and 31 mm; linear interpolation puts thickness d at 29 + 2 (H - d)/H mm.
+    d = 1.15e-3
+    one_grain = 0.029 + 0.002 * (0.016 - d) / 0.016
+    assert met["runout_radius"] == pytest.approx(one_grain, abs=1e-9)
+    assert met["runout_normalised"] == pytest.approx((one_grain - 0.03) / 0.03, abs=1e-7)
     assert met["final_height"] == pytest.approx(0.016, rel=1e-9)
-    assert met["runout_normalised"] == pytest.approx(0.0, abs=1e-9)
     assert met["final_height_normalised"] == pytest.approx(0.016 / 0.03)
     r, h = surface_profile(x, v0, g)
     np.testing.assert_allclose(h[r < 0.03], 0.016, rtol=1e-9)
@@ -54,7 +60,7 @@ def test_cone_gives_apex_and_foot(formulation):
     met = particle_metrics(x, v0, m, g)
     # lattice staircase: within one particle spacing
     assert met["final_height"] == pytest.approx(H0, abs=S)
-    assert abs(met["runout_radius"] - Rc) <= 1.5 * S + 1e-12
+    assert abs(met["runout_radius_particle_edge"] - Rc) <= 1.5 * S + 1e-12
 
 
 def test_truncated_cone():
@@ -77,6 +83,7 @@ def test_stray_particles_do_not_change_runout():
     me = 1550.0 * ve
     with_strays = particle_metrics(xe, ve, me, g)
     assert with_strays["runout_radius"] == base["runout_radius"]
+    assert with_strays["runout_radius_particle_edge"] == base["runout_radius_particle_edge"]
     assert with_strays["max_particle_radius"] > 0.08  # the strays are there
     assert with_strays["final_height"] == pytest.approx(base["final_height"], abs=0.25 * S)
     assert with_strays["max_particle_height"] > base["max_particle_height"] + 3 * S
@@ -93,11 +100,20 @@ def test_builder_geometry_walls_and_friction():
     body = s.bodies[0]
     assert body.initial_stress == "geostatic"
     assert body.k0 == pytest.approx(1 - math.sin(math.radians(25.0)))
-    (wall,) = s.walls
+    base, wall = s.walls
     assert (wall.axis, wall.position, wall.material_side, wall.condition) == ("x", 0.03, "negative", "roller")
+    assert wall.removal_time == 0.0
+    # the base is a friction wall at z = 0 with two cells of grid below it
+    assert (base.axis, base.position, base.material_side, base.condition) == ("y", 0.0, "positive", "friction")
+    assert base.removal_time is None
+    assert base.coefficient == pytest.approx(math.tan(math.radians(25.0)))
+    assert s.grid.origin[1] == pytest.approx(-2 * 0.002)
     assert s.boundaries.bottom.condition == "friction"
-    assert s.boundaries.bottom.coefficient == pytest.approx(math.tan(math.radians(25.0)))
-    assert s.simulation.stop_at_rest > 0
+    assert s.simulation.stop_at_rest > 0 and s.simulation.stop_when_settled > 0
+    assert s.simulation.flip_fraction == 1.0
+    flat = collapse_scenario(0.8, cells_below_base=0)
+    assert len(flat.walls) == 1 and flat.grid.origin[1] == 0.0
+    assert flat.boundaries.bottom.coefficient == pytest.approx(math.tan(math.radians(25.0)))
     # H_i = 0.56 R_i = 16.8 mm is not on the 2 mm grid: rounded to 16 mm
     g56 = geometry_from_scenario(collapse_scenario(0.56))
     assert g56.height == pytest.approx(0.016) and g56.aspect_ratio == pytest.approx(0.5333, abs=1e-3)
@@ -154,8 +170,8 @@ def test_one_grain_runout_is_where_a_cone_is_one_grain_thick(formulation):
     x, v0, m = lattice(lambda r: H0 * (1 - r / Rc), Rc, formulation)
     expected = Rc * (1 - GRAIN_DIAMETER / H0)
     met = particle_metrics(x, v0, m, g)
-    assert met["runout_radius_one_grain"] == pytest.approx(expected, abs=0.5e-3)
-    assert met["runout_normalised_one_grain"] == pytest.approx((expected - 0.03) / 0.03, abs=0.02)
+    assert met["runout_radius"] == pytest.approx(expected, abs=0.5e-3)
+    assert met["runout_normalised"] == pytest.approx((expected - 0.03) / 0.03, abs=0.02)
     # a thicker threshold moves the edge inwards along the slope
     inner = runout_radius_at_thickness(x, v0, g, thickness=0.012)
     assert inner == pytest.approx(Rc * 0.5, abs=0.5e-3)

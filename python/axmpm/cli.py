@@ -133,11 +133,11 @@ def _cmd_demo(args: argparse.Namespace) -> int:
         code = _report_run(res.summary, res.out)
         if res.case is not None:
             c, lube = res.case, res.case["laws"]["lube2004"]
-            print(f"runout (R_inf - R_i)/R_i = {c['runout_normalised']:.3f} vs Lube et al. 2004 "
+            print(f"runout (R_inf - R_i)/R_i, deposit one grain (1.15 mm) thick = {c['runout_normalised']:.3f} vs Lube et al. 2004 "
                   f"{lube['runout_normalised']:.3f} ({100 * lube['runout_normalised_rel_diff']:+.0f} %)")
-            print(f"runout where the deposit is one grain (1.15 mm) thick = "
-                  f"{c['runout_normalised_one_grain']:.3f} "
-                  f"({100 * c['runout_one_grain_rel_diff']['lube2004']:+.0f} %)")
+            print(f"outermost particle of the deposit (R - R_i)/R_i = "
+                  f"{c['runout_normalised_particle_edge']:.3f} "
+                  f"({100 * c['runout_particle_edge_rel_diff']['lube2004']:+.0f} %)")
             print(f"final height H_inf/R_i = {c['final_height_normalised']:.3f} vs Lube et al. 2004 "
                   f"{lube['final_height_normalised']:.3f} ({100 * lube['final_height_rel_diff']:+.0f} %)")
             print(f"figures and summary: {res.figure}, {res.report}")

@@ -304,12 +304,14 @@ def particle_metrics(
         "initial_radius": R_i,
         "initial_height": H_i,
         "aspect_ratio": H_i / R_i,
-        "runout_radius": R_inf,
+        # The deposit edge is where it becomes thinner than one grain (the headline runout);
+        # the outermost particle of the continuous deposit follows the mesh (module doc).
+        "runout_radius": R_grain,
         "final_height": H_inf,
-        "runout_normalised": (R_inf - R_i) / R_i,
+        "runout_normalised": (R_grain - R_i) / R_i,
         "final_height_normalised": H_inf / R_i,
-        "runout_radius_one_grain": R_grain,
-        "runout_normalised_one_grain": (R_grain - R_i) / R_i,
+        "runout_radius_particle_edge": R_inf,
+        "runout_normalised_particle_edge": (R_inf - R_i) / R_i,
         "runout_radius_99": mass_radius(x, mass, geom, 0.99),
         "final_height_p95": height_percentile(x, mass, geom),
         "max_particle_radius": float((x[:, 0] - geom.axis).max() + 0.5 * geom.spacing),
@@ -322,11 +324,12 @@ def particle_metrics(
 def deposit_metrics(run_dir: str | Path) -> dict[str, Any]:
     """Deposit metrics from the last frame of a column-collapse run.
 
-    Keys: ``initial_radius``, ``initial_height``, ``aspect_ratio``, ``runout_radius``,
-    ``final_height`` (m), ``runout_normalised`` = (R∞ − R_i)/R_i,
-    ``final_height_normalised`` = H∞/R_i, ``time`` (of the frame used), plus
-    ``runout_radius_one_grain`` and ``runout_normalised_one_grain`` (R∞ at one grain
-    diameter of thickness), ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
+    Keys: ``initial_radius``, ``initial_height``, ``aspect_ratio``, ``runout_radius`` (R∞
+    where the deposit is one grain diameter thick), ``final_height`` (m),
+    ``runout_normalised`` = (R∞ − R_i)/R_i, ``final_height_normalised`` = H∞/R_i, ``time``
+    (of the frame used), plus ``runout_radius_particle_edge`` and
+    ``runout_normalised_particle_edge`` (outermost particle of the continuous deposit),
+    ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
     ``cells_per_radius``, ``frame``, ``status``. Geometry comes from the scenario's first body.
     """
     from .output import load_run
@@ -386,11 +389,22 @@ DEFAULTS: dict[str, Any] = {
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
-    "flip_fraction": 0.99,
+    # Pure FLIP: the PIC part of a blend removes a fixed fraction of the particles' velocity
+    # fluctuation *per step*, so its dissipation grows with the step count (stiffer E, finer
+    # mesh) and set the runout (docs/validation.md, "Why the runout moved with the mesh").
+    "flip_fraction": 1.0,
     "release_time": 0.0,  # s, wall removal; 0 = from the geostatic state at t = 0+
     "end_time": 1.0,  # s
     "output_interval": 0.02,  # s, the seed paper's profile interval
     "stop_at_rest": 1e-5,  # kinetic energy / work of gravity
+    # Undamped pure-FLIP deposits keep an elastic vibration (KE ≈ 2e-3 of the work of
+    # gravity) that never decays, so the run also stops once gravity does less than this
+    # fraction of its work in settle_window: the deposit no longer moves down.
+    "stop_when_settled": 5e-5,
+    "settle_window": 0.1,  # s
+    # Cells of grid below the base (a friction wall at z = 0 acts on them): a particle that
+    # interpolation carries a hair below the base stays on the grid instead of ending the run.
+    "cells_below_base": 2,
     "rest_check_after": 0.1,  # s after the release
     "formulation": "axisymmetric",
 }
@@ -424,6 +438,9 @@ def collapse_scenario(
     end_time: float = DEFAULTS["end_time"],
     output_interval: float = DEFAULTS["output_interval"],
     stop_at_rest: float = DEFAULTS["stop_at_rest"],
+    stop_when_settled: float = DEFAULTS["stop_when_settled"],
+    settle_window: float = DEFAULTS["settle_window"],
+    cells_below_base: int = DEFAULTS["cells_below_base"],
     rest_check_after: float = DEFAULTS["rest_check_after"],
     domain_radius: float | None = None,
     as_dict: bool = False,
@@ -445,9 +462,11 @@ def collapse_scenario(
     a = H_i / R_i
     mu = math.tan(math.radians(friction_angle)) if base_friction is None else float(base_friction)
     if domain_radius is None:
-        domain_radius = R_i * (1.5 + 1.6 * _law_runout_guess(a))
+        # Room for the thin sheet pure FLIP lets slide along the base beyond the deposit.
+        domain_radius = R_i * (2.0 + 2.5 * _law_runout_guess(a))
     n_dr = max(n_r + 2, int(math.ceil(domain_radius / h - 1e-9)))
-    n_dz = n_z + 4
+    n_below = max(0, int(cells_below_base))
+    n_dz = n_z + 4 + n_below
     data: dict[str, Any] = {
         "simulation": {
             "formulation": formulation,
@@ -459,9 +478,11 @@ def collapse_scenario(
             "gravity": [0.0, -9.81],
             "damping": 0.0,
             "stop_at_rest": stop_at_rest,
+            "stop_when_settled": stop_when_settled,
+            "settle_window": settle_window,
             "stop_at_rest_after": release_time + rest_check_after,
         },
-        "grid": {"origin": [0.0, 0.0], "extent": [n_dr * h, n_dz * h], "cell_size": h},
+        "grid": {"origin": [0.0, -n_below * h], "extent": [n_dr * h, n_dz * h], "cell_size": h},
         "materials": {
             "sand": {
                 "model": "mohr_coulomb",
@@ -492,7 +513,11 @@ def collapse_scenario(
             "bottom": {"condition": "friction", "coefficient": mu},
             "top": {"condition": "free"},
         },
-        "walls": [
+        "walls": ([
+            # The base, when the grid reaches below it (else the bottom face is the base).
+            {"axis": "y", "position": 0.0, "material_side": "positive", "condition": "friction",
+             "coefficient": mu},
+        ] if n_below else []) + [
             {
                 "axis": "x",
                 "position": R_i,

@@ -43,15 +43,15 @@ MIN_ORDER = 0.5
 #: The quantities followed across meshes: key in the table → (label, value getter, relative
 #: difference to Lube et al. 2004 getter).
 QUANTITIES: dict[str, tuple[str, Any, Any]] = {
-    "runout_edge": (
-        "(R∞−R_i)/R_i, particle edge",
+    "runout_one_grain": (
+        "(R∞−R_i)/R_i, one grain thick",
         lambda c: c["runout_normalised"],
         lambda c: c["laws"]["lube2004"]["runout_normalised_rel_diff"],
     ),
-    "runout_one_grain": (
-        "(R∞−R_i)/R_i, one grain thick",
-        lambda c: c["runout_normalised_one_grain"],
-        lambda c: c["runout_one_grain_rel_diff"]["lube2004"],
+    "runout_edge": (
+        "(R∞−R_i)/R_i, particle edge",
+        lambda c: c["runout_normalised_particle_edge"],
+        lambda c: c["runout_particle_edge_rel_diff"]["lube2004"],
     ),
     "final_height": (
         "H∞/R_i",

@@ -231,6 +231,20 @@ class HistoryWriter:
         self.lines.append(_csv_line([repr(float(row.get(c, float("nan")))) for c in self.columns]))
         write_text(self.path, "".join(self.lines))
 
+    def series(self, column: str) -> list[tuple[float, float]]:
+        """(time, value) of one column over the rows so far (empty if it is not recorded)."""
+        if self.columns is None or column not in self.columns or "time" not in self.columns:
+            return []
+        t, c = self.columns.index("time"), self.columns.index(column)
+        out = []
+        for line in self.lines[1:]:
+            fields = next(csv.reader([line]))
+            try:
+                out.append((float(fields[t]), float(fields[c])))
+            except (ValueError, IndexError):
+                continue
+        return out
+
     @classmethod
     def resume(cls, path: Path, until_time: float) -> "HistoryWriter":
         """Continue an existing ``history.csv``, dropping the rows after ``until_time``."""

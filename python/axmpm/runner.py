@@ -132,6 +132,23 @@ def _at_rest(energies: dict[str, float], time: float, sim_cfg: Any) -> bool:
     return released > 0.0 and energies.get("kinetic_energy", 0.0) < ratio * released
 
 
+def _settled(gravity_work: list[tuple[float, float]], time: float, sim_cfg: Any) -> bool:
+    """The body has stopped moving down: the work gravity did over the last ``settle_window``
+    seconds is, in magnitude, below ``stop_when_settled`` times all the work it has done, from
+    ``stop_at_rest_after`` on. ``gravity_work`` holds (time, work) at the output times so
+    far, in order. Unlike the kinetic-energy test this ends undamped runs (pure FLIP) whose
+    deposit is in place but keeps a small elastic vibration that never decays."""
+    ratio = getattr(sim_cfg, "stop_when_settled", 0.0)
+    window = getattr(sim_cfg, "settle_window", 0.0)
+    if ratio <= 0.0 or time < sim_cfg.stop_at_rest_after or not gravity_work:
+        return False
+    t_now, w_now = gravity_work[-1]
+    earlier = [w for t, w in gravity_work if t <= t_now - window * (1.0 - 1e-9)]
+    if not earlier or w_now <= 0.0:
+        return False
+    return abs(w_now - earlier[-1]) < ratio * w_now
+
+
 def checkpoint_every(sim_cfg: Any) -> int | None:
     """Output intervals between periodic checkpoints: ``checkpoint_interval`` rounded up to
     a whole number of ``output_interval`` (checkpoints must fall on output times); None when
@@ -306,7 +323,8 @@ class _Driver:
                             bar.set_postfix_str(f"{taken / dt_wall:.0f} steps/s", refresh=False)
                     self.record()
                     self.snapshot(k)
-                    if _at_rest(self.summary["energies"], float(sim.time), sim_cfg):
+                    if (_at_rest(self.summary["energies"], float(sim.time), sim_cfg)
+                            or _settled(self.history.series("gravity_work"), float(sim.time), sim_cfg)):
                         self.summary["stopped_at_rest"] = True
                         break
                     if flag["hit"]:

@@ -150,8 +150,18 @@ class Simulation(_Section):
         description="stop (status completed) at the first output time when the kinetic energy is "
         "below this fraction of the work done by gravity; 0 = run to end_time",
     )
+    stop_when_settled: _bounded(0.0, 1.0, hi_open=True) = Field(  # type: ignore[valid-type]
+        0.0,
+        description="stop (status completed) at the first output time when the work done by "
+        "gravity over the last settle_window seconds is below this fraction of the total: the "
+        "body no longer moves down (for undamped runs whose elastic vibration never dies out); "
+        "0 = off",
+    )
+    settle_window: Positive = Field(  # type: ignore[valid-type]
+        0.1, description="s: the time window of the stop_when_settled test"
+    )
     stop_at_rest_after: NonNegative = Field(
-        0.0, description="s: the at-rest test is applied only from this time on"
+        0.0, description="s: the at-rest and settled tests are applied only from this time on"
     )
     checkpoint_interval: Positive | None = Field(  # type: ignore[valid-type]
         None,

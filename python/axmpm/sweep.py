@@ -89,7 +89,7 @@ COLLAPSE_COLUMNS = [
     "runout_radius",
     "final_height",
     "runout_normalised",
-    "runout_normalised_one_grain",
+    "runout_normalised_particle_edge",
     "final_height_normalised",
     "deposit_time",
 ]

@@ -58,8 +58,8 @@ def case_result(name: str, run_dir: Path, nominal_a: float | None = None,
     run = load_run(run_dir)
     a = m["aspect_ratio"]
     laws = compare(a, m["runout_normalised"], m["final_height_normalised"], m["initial_radius"])
-    laws_one_grain = compare(a, m["runout_normalised_one_grain"], m["final_height_normalised"],
-                             m["initial_radius"])
+    laws_edge = compare(a, m["runout_normalised_particle_edge"], m["final_height_normalised"],
+                        m["initial_radius"])
     return {
         "name": name,
         "aspect_ratio": a,
@@ -71,9 +71,9 @@ def case_result(name: str, run_dir: Path, nominal_a: float | None = None,
         "final_height": m["final_height"],
         "runout_normalised": m["runout_normalised"],
         "final_height_normalised": m["final_height_normalised"],
-        "runout_radius_one_grain": m["runout_radius_one_grain"],
-        "runout_normalised_one_grain": m["runout_normalised_one_grain"],
-        "runout_one_grain_rel_diff": {k: v["runout_normalised_rel_diff"] for k, v in laws_one_grain.items()},
+        "runout_radius_particle_edge": m["runout_radius_particle_edge"],
+        "runout_normalised_particle_edge": m["runout_normalised_particle_edge"],
+        "runout_particle_edge_rel_diff": {k: v["runout_normalised_rel_diff"] for k, v in laws_edge.items()},
         "runout_radius_99": m["runout_radius_99"],
         "final_height_p95": m["final_height_p95"],
         "max_particle_radius": m["max_particle_radius"],
@@ -222,7 +222,7 @@ def _num(x: float | None, fmt: str = ".3f") -> str:
 
 def results_table(cases: list[dict[str, Any]]) -> str:
     lines = [
-        "| case | a | cells/R_i | (R∞−R_i)/R_i | Lube 2004 | diff | at one grain | diff | H∞/R_i | "
+        "| case | a | cells/R_i | (R∞−R_i)/R_i | Lube 2004 | diff | particle edge | diff | H∞/R_i | "
         "Lube 2004 H | diff | Lajeunesse 2005 H | wall s | status |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
@@ -234,8 +234,8 @@ def results_table(cases: list[dict[str, Any]]) -> str:
             f"| {c['name']} | {c['aspect_ratio']:.3g} | {c['cells_per_radius']:.0f} | "
             f"{c['runout_normalised']:.3f} | {_num(lube['runout_normalised'])} | "
             f"{_pct(lube['runout_normalised_rel_diff'])} | "
-            f"{_num(c.get('runout_normalised_one_grain'))} | "
-            f"{_pct(c.get('runout_one_grain_rel_diff', {}).get('lube2004'))} | "
+            f"{_num(c.get('runout_normalised_particle_edge'))} | "
+            f"{_pct(c.get('runout_particle_edge_rel_diff', {}).get('lube2004'))} | "
             f"{c['final_height_normalised']:.3f} | "
             f"{_num(lube['final_height_normalised'])}{h_tag} | {_pct(lube['final_height_rel_diff'])} | "
             f"{_num(laj['final_height_normalised'])} ({_pct(laj['final_height_rel_diff'])}) | "
@@ -261,10 +261,11 @@ Laws and their sources: `axmpm/laws.py`, docs/validation-sources.md. Analysis ru
 {results_table(cases)}
 
 Runout differences are relative to Lube et al. 2004's (R∞ − R_i)/R_i (the only runout law
-whose coefficients are confirmed); the largest is {100 * worst:.0f} %. "(R∞−R_i)/R_i" is the
-outermost particle of the continuous deposit; "at one grain" is where the deposit becomes
-thinner than one grain diameter (1.15 mm), the rule that converges with the mesh
-(`axmpm convergence`, docs/validation.md). Lube's height law is
+whose coefficients are confirmed); the largest is {100 * worst:.0f} %. R∞ is where the deposit
+becomes thinner than one grain diameter (1.15 mm), the rule that converges with the mesh
+(`axmpm convergence`, docs/validation.md); "particle edge" is the outermost particle of the
+continuous deposit, which follows the thinnest sheet the mesh and pure FLIP let slide along
+the base. Lube's height law is
 H∞ = H_i for a ≤ 1.7 (confirmed only for a ≲ 0.74) and 0.88 a^(1/6) above (unconfirmed);
 the Lajeunesse 2005 plateau value 0.74 is low-confidence. Aspect ratios are those of the
 simulated columns (heights rounded to whole cells), and the laws are evaluated there.
