@@ -85,3 +85,37 @@ def test_completed_meshes_are_reused(tmp_path):
     assert marker.stat().st_mtime_ns == before  # 6 mm not run again
     data = json.loads((out / "convergence.json").read_text())
     assert [m["cell_size"] for m in data["cases"][0]["meshes"]] == [0.006, 0.003, 0.0015]
+
+
+def test_profile_difference_of_deposits(tmp_path):
+    """0 for a deposit against itself, between 0 and 2 for two meshes of the same column,
+    refused for columns of different aspect ratio."""
+    import axmpm
+    from axmpm.collapse import collapse_scenario, profile_difference
+
+    dirs = {}
+    for name, a, h in (("c6", 0.8, 0.006), ("c3", 0.8, 0.003), ("tall", 1.6, 0.006)):
+        dirs[name] = tmp_path / name
+        axmpm.run(collapse_scenario(a, cell_size=h, end_time=0.06), dirs[name], threads=1)
+    assert profile_difference(dirs["c3"], dirs["c3"]) == 0.0
+    d = profile_difference(dirs["c6"], dirs["c3"])
+    assert 0.0 < d < 2.0
+    assert d == pytest.approx(profile_difference(dirs["c6"], dirs["c3"]), rel=0, abs=0)  # deterministic
+    with pytest.raises(ValueError, match="not the same column"):
+        profile_difference(dirs["tall"], dirs["c3"])
+
+
+def test_table_shows_profile_difference():
+    """The table prints each mesh's deposit difference to the finest mesh (— if absent)."""
+    from axmpm.convergence import table
+
+    mesh = {"cell_size": 0.002, "cells_per_radius": 15.0, "aspect_ratio": 0.8, "status": "completed",
+            "wall_seconds": 1.0, "profile_difference": 0.132}
+    for key in ("runout_one_grain", "runout_edge", "final_height"):
+        mesh[key], mesh[key + "_rel_diff"] = 0.9, -0.05
+    finest = {**mesh, "cell_size": 0.001, "profile_difference": None}
+    none = {"converging": None, "order": None, "extrapolated": None}
+    summary = {"cases": [{"name": "a08", "meshes": [mesh, finest],
+                          "richardson": {k: none for k in ("runout_one_grain", "runout_edge", "final_height")}}]}
+    text = table(summary)
+    assert "| 13.2 % |" in text and "| — | 1 |" in text
