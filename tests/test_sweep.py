@@ -212,6 +212,21 @@ def test_snap_overrides_keep_scenario_valid(tmp_path):
     assert s.grid.cell_size == 0.006 and s.bodies[0].max[0] == pytest.approx(0.03)
 
 
+def test_swept_friction_angle_moves_k0_and_every_base_coefficient():
+    """The builder's base is a friction wall (walls.0) above a friction bottom face; both
+    follow tan φ, the removable side wall (roller) does not."""
+    collapse = pytest.importorskip("axmpm.collapse")
+    data = collapse.collapse_scenario(0.56, as_dict=True)
+    bodies, keys = cal._linked(data, "sand", {})
+    assert bodies == [0]
+    assert keys == ["boundaries.bottom.coefficient", "walls.0.coefficient"]
+    vals = cal._phi_values(30.0, "sand", bodies, keys)
+    mu = math.tan(math.radians(30.0))
+    assert vals["walls.0.coefficient"] == pytest.approx(mu) and vals["boundaries.bottom.coefficient"] == pytest.approx(mu)
+    assert vals["bodies.0.k0"] == pytest.approx(1 - math.sin(math.radians(30.0)))
+    assert cal._linked(data, "sand", {"link_base_friction": False})[1] == []
+
+
 def _collapse_config(tmp_path: Path) -> Path:
     """A config on the examples, or on scenarios built by collapse_scenario if missing."""
     names = ["column_collapse_a056.toml", "column_collapse_a08.toml", "column_collapse_a54.toml"]

@@ -319,31 +319,39 @@ def _case_overrides(data: dict[str, Any], cfg: dict[str, Any]) -> list[str]:
     return overrides
 
 
-def _linked(data: dict[str, Any], material: str, cfg: dict[str, Any]) -> tuple[list[int], bool]:
-    """Bodies whose k0 follows φ, and whether the base coefficient follows tan φ."""
+def _linked(data: dict[str, Any], material: str, cfg: dict[str, Any]) -> tuple[list[int], list[str]]:
+    """Bodies whose k0 follows φ, and the dotted keys of the base coefficients that follow
+    tan φ: a ``friction`` bottom face and ``friction`` walls along y (the column builder's
+    base wall) whose coefficient is tan φ of the file."""
     phi0 = data["materials"][material].get("friction_angle")
     if phi0 is None:
-        return [], False
+        return [], []
     bodies = []
     if cfg.get("link_k0", True):
         for i, b in enumerate(data.get("bodies", [])):
             k0 = b.get("k0")
             if b.get("material") == material and k0 is not None and abs(k0 - (1 - math.sin(math.radians(phi0)))) < 1e-9:
                 bodies.append(i)
-    base = False
+    keys: list[str] = []
     if cfg.get("link_base_friction", True):
+        mu0 = math.tan(math.radians(phi0))
         bottom = data.get("boundaries", {}).get("bottom")
         if isinstance(bottom, dict) and bottom.get("condition") == "friction":
-            base = abs(float(bottom.get("coefficient", 0.0)) - math.tan(math.radians(phi0))) < 1e-9
-    return bodies, base
+            if abs(float(bottom.get("coefficient", 0.0)) - mu0) < 1e-9:
+                keys.append("boundaries.bottom.coefficient")
+        for i, wall in enumerate(data.get("walls", [])):
+            if (wall.get("axis") == "y" and wall.get("condition") == "friction"
+                    and abs(float(wall.get("coefficient", 0.0)) - mu0) < 1e-9):
+                keys.append(f"walls.{i}.coefficient")
+    return bodies, keys
 
 
-def _phi_values(phi: float, material: str, bodies: list[int], base: bool) -> dict[str, Any]:
+def _phi_values(phi: float, material: str, bodies: list[int], base_keys: list[str]) -> dict[str, Any]:
     vals: dict[str, Any] = {f"materials.{material}.friction_angle": phi}
     for i in bodies:
         vals[f"bodies.{i}.k0"] = round(1.0 - math.sin(math.radians(phi)), 12)
-    if base:
-        vals["boundaries.bottom.coefficient"] = round(math.tan(math.radians(phi)), 12)
+    for key in base_keys:
+        vals[key] = round(math.tan(math.radians(phi)), 12)
     return vals
 
 
