@@ -651,8 +651,9 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
             for p in cal.predictions
         ]
     lines += ["## Caveats", "",
-              "- PHYSICS.md §6: the runout is not mesh-converged at 15 cells per radius; a calibration "
-              "is only meaningful on a converged mesh, and the cells per radius must be quoted with it.",
+              "- Quote the cells per radius with the result: with pure FLIP the a ≤ 0.8 runouts are "
+              "converged (±5 %) at 30 cells per radius, the a = 5.4 one is not at 15 (docs/validation.md); "
+              "with a FLIP/PIC blend the runout depends on the step count.",
               "- The law's height coefficients above a ≈ 0.74 are unconfirmed (`axmpm.laws`).",
               "- Runs and tables: `calibration/results.csv`, `prediction/results.csv`.", ""]
     path = out / "report.md"

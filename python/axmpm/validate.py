@@ -283,15 +283,16 @@ the reported R∞ and H∞; dashed red: Lube et al. 2004's R∞.*
 
 ## Caveats
 
-* Mesh: {', '.join(f'{x:g}' for x in cpr)} cells per initial radius. The runout is **not
-  mesh-converged** at 15 cells per radius: refining a = 0.56 from 2 mm to 1 mm cells grows
-  it (docs/validation.md, PHYSICS.md §6), so differences from the laws at this resolution
-  are not a calibration target.
+* Mesh: {', '.join(f'{x:g}' for x in cpr)} cells per initial radius. With pure FLIP the
+  one-grain runout is within its ±5 % scatter of the 0.5 mm value at 30 cells per radius
+  for a ≤ 0.8; at 15 cells per radius a = 0.56 is a different column (H_i rounded to 16 mm)
+  and a = 5.4 is about 10 % short of the 1 mm value (docs/validation.md, mesh convergence).
+  With a FLIP/PIC blend (flip_fraction < 1) the runout depends on the step count.
 * The experiments' own radii are unconfirmed (Lube: 1.7–9.7 cm); R_i = 3 cm here.
 * Mean J = V/V0 of the deposits: {', '.join(f"{c['name']} {c.get('volume_ratio_mean', float('nan')):.2f}" for c in cases)}.
   With ψ = 0 this growth is the Mohr–Coulomb apex return (tensile trial states expand
-  stress-free and never re-compact; docs/validation.md); profiles and H∞ use initial
-  volumes (solid thickness) and are not inflated by it, the runout extent may be.
+  stress-free and never re-compact; docs/validation.md); profiles, R∞ and H∞ use initial
+  volumes (solid thickness) and are not inflated by it.
 * Per-case data: validation.json; runs: cases/NAME (ParaView: particles.pvd).
 """
     path = out / "report.md"
