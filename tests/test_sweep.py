@@ -266,3 +266,17 @@ def test_calibrate_quick_smoke(cluster, tmp_path):
         assert text in report
     assert (out / "misfit.png").stat().st_size > 0 and (out / "comparison.png").stat().st_size > 0
     assert (out / "calibration" / "results.csv").exists() and (out / "prediction" / "results.csv").exists()
+
+
+def test_shipped_1mm_calibration_config_resolves_and_stays_on_grid():
+    """examples/calibration/1mm.toml: its scenarios exist, and with its overrides every
+    scenario is valid on the 1 mm grid (bodies and walls on grid lines)."""
+    from axmpm.scenario import Scenario, apply_overrides
+
+    cfg = cal.load_config(EXAMPLES / "calibration" / "1mm.toml")
+    assert cfg["set"] == ["grid.cell_size=0.001"]
+    for path in [cfg["scenario"], *cfg["predict"]]:
+        assert Path(path).exists()
+        data = Scenario.from_toml(path).to_dict()
+        s = Scenario.from_dict(apply_overrides(data, cfg["set"]))
+        assert s.grid.cell_size == 0.001
