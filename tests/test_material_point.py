@@ -148,3 +148,47 @@ def test_front_end_and_engine_agree_on_the_recompaction_default():
     # The engine's own default (a material JSON without the key, as Rust callers may send).
     _, _, names = _core.material_response(json.dumps(mc()), np.zeros((1, 5)), 1e-3, [0.0] * 4)
     assert ("opening_volumetric_strain" in names) is RECOMPACTION_DEFAULT
+
+
+def mu_i(phi_s=22.45, phi_2=40.05, d=1.15e-3, rho_s=2500.0):
+    return dict(mc(phi_s), inertial_friction_angle=phi_2, grain_diameter=d, grain_density=rho_s)
+
+
+@pytest.mark.parametrize("rate", [1e-3, 20.0, 400.0])
+def test_mu_i_simple_shear_sits_on_the_surface_of_its_inertial_number(rate):
+    """A confined sample sheared at rate γ̇ ends with in-plane Mohr circle radius / centre =
+    μ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I), I = γ̇ d / √(P/ρ_s) (sin φ = μ; mu_i.rs)."""
+    steps, p = 800, 300.0
+    L = np.zeros((steps, 5))
+    L[:, 1] = rate  # u̇ = γ̇ y
+    out = material_point(mu_i(), L, 0.2 / (steps * rate), [-p, -p, -p, 0.0])
+    s = out.stresses[-1]
+    centre = -(s[0] + s[1]) / 2
+    radius = math.hypot((s[0] - s[1]) / 2, s[3])
+    pressure = -(s[0] + s[1] + s[2]) / 3
+    inertial = rate * 1.15e-3 / math.sqrt(pressure / 2500.0)
+    mu_s, mu_2 = math.sin(math.radians(22.45)), math.sin(math.radians(40.05))
+    mu = mu_s + (mu_2 - mu_s) * inertial / (0.279 + inertial)
+    assert radius / centre == pytest.approx(mu, rel=3e-3)
+    assert out.state_names[-1] == "inertial_number"
+    assert out.state("inertial_number")[-1] == pytest.approx(inertial, rel=0.05)
+    rate_independent = material_point(mc(22.45), L, 0.2 / (steps * rate), [-p, -p, -p, 0.0]).stresses[-1]
+    ratio_mc = math.hypot((rate_independent[0] - rate_independent[1]) / 2, rate_independent[3]) / (
+        -(rate_independent[0] + rate_independent[1]) / 2)
+    assert ratio_mc == pytest.approx(mu_s, rel=3e-3)
+    if rate > 100:
+        assert radius / centre > mu_s + 0.5 * (mu_2 - mu_s)  # clearly rate-dependent
+
+
+@pytest.mark.parametrize("change,key", [
+    ({"inertial_friction_angle": 20.0}, "inertial_friction_angle"),
+    ({"grain_diameter": None}, "grain_diameter"),
+    ({"grain_density": 1000.0}, "grain_density"),
+    ({"inertial_number_scale": 0.0}, "inertial_number_scale"),
+])
+def test_mu_i_bad_keys_are_named(change, key):
+    material = {**mu_i(), **change}
+    material = {k: v for k, v in material.items() if v is not None}
+    with pytest.raises(ScenarioError) as err:
+        material_point(material, np.zeros((1, 5)), 1e-3)
+    assert key in str(err.value)

@@ -417,6 +417,12 @@ DEFAULTS: dict[str, Any] = {
     # Separated sand re-compacts stress-free (mohr_coulomb.rs doc; docs/validation.md,
     # "Re-compaction"); False = the seed set-up, the opened volume is permanent.
     "recompaction": False,
+    # μ(I) friction (mu_i.rs): None = rate-independent Mohr–Coulomb at friction_angle; an
+    # angle φ₂ makes friction_angle the static angle of sin φ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I).
+    "inertial_friction_angle": None,  # degrees
+    "inertial_number_scale": 0.279,  # I₀ (Jop, Forterre & Pouliquen 2006, glass beads)
+    "grain_diameter": GRAIN_DIAMETER,  # m, d in I
+    "grain_density": 2500.0,  # kg/m³, glass (PHYSICS.md §6)
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
@@ -461,6 +467,10 @@ def collapse_scenario(
     dilation_angle: float = DEFAULTS["dilation_angle"],
     cohesion: float = DEFAULTS["cohesion"],
     recompaction: bool = DEFAULTS["recompaction"],
+    inertial_friction_angle: float | None = DEFAULTS["inertial_friction_angle"],
+    inertial_number_scale: float = DEFAULTS["inertial_number_scale"],
+    grain_diameter: float = DEFAULTS["grain_diameter"],
+    grain_density: float = DEFAULTS["grain_density"],
     base_friction: float | None = DEFAULTS["base_friction"],
     shape_function: str = DEFAULTS["shape_function"],
     update_scheme: str = DEFAULTS["update_scheme"],
@@ -525,6 +535,10 @@ def collapse_scenario(
                 "cohesion": cohesion,
                 "tension_cutoff": 0.0,
                 "recompaction": recompaction,
+                **({"inertial_friction_angle": inertial_friction_angle,
+                    "inertial_number_scale": inertial_number_scale,
+                    "grain_diameter": grain_diameter, "grain_density": grain_density}
+                   if inertial_friction_angle is not None else {}),
             }
         },
         "bodies": [

@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from pydantic import TypeAdapter, ValidationError
 
 from .errors import ScenarioError
-from .scenario import Material, MohrCoulomb, _convert_errors
+from .scenario import Material, _convert_errors
 
 __all__ = ["material_point", "MaterialPointResponse", "validate_material", "drained_triaxial",
            "TriaxialResult", "yield_ratio"]
@@ -58,9 +58,14 @@ def validate_material(material: dict[str, Any] | Any) -> Any:
     except ValidationError as exc:
         errors = [(_strip_tag(key), msg) for key, msg in _convert_errors(exc)]
         raise ScenarioError(errors, "material") from None
-    if isinstance(mat, MohrCoulomb) and mat.dilation_angle > mat.friction_angle:
-        raise ScenarioError([("dilation_angle", f"must be <= friction_angle = {mat.friction_angle:g} "
-                              f"(got {mat.dilation_angle:g})")], "material")
+    # the scenario's cross checks of one material (ψ ≤ φ, the μ(I) keys), keys without the prefix
+    from .scenario import _cross_check_parts
+
+    prefix = "materials.material."
+    errors = [(key[len(prefix):] if key.startswith(prefix) else key, msg)
+              for key, msg in _cross_check_parts(None, None, {"material": mat}, ["material"], None, None, None)]
+    if errors:
+        raise ScenarioError(errors, "material")
     return mat
 
 

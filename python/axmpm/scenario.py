@@ -225,6 +225,24 @@ class MohrCoulomb(_Elastic):
         "stress-free before it carries compression again (Dunatunga & Kamrin 2015); false: the "
         "opened volume is permanent",
     )
+    # μ(I) friction (mu_i.rs): present = the friction angle follows the inertial number.
+    inertial_friction_angle: _bounded(0.0, 90.0, lo_open=True, hi_open=True) | None = Field(  # type: ignore[valid-type]
+        None,
+        description="degrees, in [friction_angle, 90): the friction angle at large inertial "
+        "number I (mu(I) rheology, sin(phi) = mu_s + (mu_2 - mu_s) I/(I_0 + I), Jop et al. 2006); "
+        "absent = rate-independent",
+    )
+    inertial_number_scale: Positive = Field(  # type: ignore[valid-type]
+        0.279, description="I_0 of the mu(I) law (Jop et al. 2006 glass beads: 0.279)"
+    )
+    grain_diameter: Positive | None = Field(  # type: ignore[valid-type]
+        None, description="m, grain size d in I = |shear rate| d / sqrt(P / grain_density); "
+        "required with inertial_friction_angle"
+    )
+    grain_density: Positive | None = Field(  # type: ignore[valid-type]
+        None, description="kg/m³, solid density of the grains (>= density); required with "
+        "inertial_friction_angle"
+    )
 
 
 Material = Annotated[Union[LinearElastic, NeoHookean, MohrCoulomb], Field(discriminator="model")]
@@ -476,6 +494,22 @@ def _cross_check_parts(
                      f"must be <= friction_angle = {_fmt(mat.friction_angle)} "
                      f"(got {_fmt(mat.dilation_angle)})")
                 )
+            if isinstance(mat, MohrCoulomb) and mat.inertial_friction_angle is not None:
+                if mat.inertial_friction_angle < mat.friction_angle:
+                    errors.append(
+                        (f"materials.{name}.inertial_friction_angle",
+                         f"must be >= friction_angle = {_fmt(mat.friction_angle)} and < 90 "
+                         f"(got {_fmt(mat.inertial_friction_angle)})")
+                    )
+                for key in ("grain_diameter", "grain_density"):
+                    if getattr(mat, key) is None:
+                        errors.append((f"materials.{name}.{key}", "is required with inertial_friction_angle"))
+                if mat.grain_density is not None and mat.grain_density < mat.density:
+                    errors.append(
+                        (f"materials.{name}.grain_density",
+                         f"must be >= density = {_fmt(mat.density)} (the bulk density of the grains) "
+                         f"(got {_fmt(mat.grain_density)})")
+                    )
 
     if bodies is not None:
         if not bodies:

@@ -8,10 +8,12 @@ use crate::particles::{DeformationGradient, Stress};
 
 pub mod linear_elastic;
 pub mod mohr_coulomb;
+pub mod mu_i;
 pub mod neo_hookean;
 
 pub use linear_elastic::LinearElastic;
 pub use mohr_coulomb::MohrCoulomb;
+pub use mu_i::InertialMohrCoulomb;
 pub use neo_hookean::NeoHookean;
 
 /// What a material sees of one particle's motion over the step.
@@ -78,7 +80,14 @@ pub fn build(name: &str, config: &MaterialConfig) -> Result<Box<dyn Material>, S
     match config.model.as_str() {
         "linear_elastic" => Ok(Box::new(LinearElastic::from_config(config))),
         "neo_hookean" => Ok(Box::new(NeoHookean::from_config(config))),
-        "mohr_coulomb" => MohrCoulomb::from_config(config).map(|m| Box::new(m) as Box<dyn Material>),
+        // An `inertial_friction_angle` makes the friction angle follow μ(I) (mu_i.rs).
+        "mohr_coulomb" => {
+            let base = MohrCoulomb::from_config(config)?;
+            Ok(match InertialMohrCoulomb::from_config(config, &base)? {
+                Some(m) => Box::new(m) as Box<dyn Material>,
+                None => Box::new(base),
+            })
+        }
         other => Err(format!(
             "materials.{name}.model: unknown model '{other}' (known: linear_elastic, neo_hookean, mohr_coulomb)"
         )),
