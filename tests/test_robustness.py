@@ -481,3 +481,46 @@ def test_error_lines_escape_control_characters(capsys, tmp_path: Path) -> None:
     code, _, err = cli(capsys, "check", path)
     assert code == 2
     assert err == "error: bad\\nkey\\x1e: unknown key\n"
+
+
+def test_settled_stop_survives_resume(monkeypatch, tmp_path: Path) -> None:
+    """stop_when_settled reads the work of gravity over earlier output times from the history,
+    so a run interrupted before it settles and resumed stops at the same output time, with
+    the same final state, as one that ran through."""
+    data = {
+        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": 20.0,
+                       "output_interval": 0.25, "gravity": [0.0, -10.0], "damping": 0.5,
+                       "flip_fraction": 1.0, "stop_when_settled": 1e-4, "settle_window": 1.0,
+                       "stop_at_rest_after": 0.5},
+        "grid": {"extent": [0.4, 0.4], "cell_size": 0.05},
+        "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1e5,
+                            "poisson_ratio": 0.3}},
+        "bodies": [{"material": "m", "min": [0.1, 0.0], "max": [0.3, 0.2]}],
+        "boundaries": {"bottom": "fixed"},
+    }
+    full = tmp_path / "full"
+    done = run(data, full, threads=1)
+    assert done["stopped_at_rest"] is True and done["end_time"] >= 1.0
+
+    original = runner._Driver.record
+    calls = {"n": 0}
+
+    def record(self):
+        original(self)
+        calls["n"] += 1
+        if calls["n"] == 3:  # after the frame at t = 0.5, before any window has passed
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(runner._Driver, "record", record)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    out = tmp_path / "cut"
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run(data, out, threads=1)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    monkeypatch.setattr(runner._Driver, "record", original)
+    resumed = resume(out, threads=1)
+    assert resumed["stopped_at_rest"] is True
+    assert resumed["end_time"] == done["end_time"] and resumed["steps"] == done["steps"]
+    assert_same_final_state(full, out)
