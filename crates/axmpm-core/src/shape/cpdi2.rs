@@ -55,17 +55,46 @@ fn corner_weights(c: &[[f64; 2]; 4]) -> ([f64; 4], [[f64; 2]; 4], f64) {
     (w, [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]], v)
 }
 
-/// What CPDI2 keeps of a particle between the passes of a step: its corners (start of the
-/// step, clamped to the axis) located in their cells and the corner weights, so the 16-entry
-/// stencil is expanded without recomputing them. The corners themselves move only at the end
-/// of the step ([`Cpdi2::advect_corners`]), after every pass has used the stencil.
+/// What CPDI2 keeps of a particle between the passes of a step: the cell of each corner
+/// (start of the step, clamped to the axis) and the corner weights, so the 16-entry stencil
+/// is expanded without recomputing them. The corners themselves move only at the end of the
+/// step ([`Cpdi2::advect_corners`]), after every pass has used the stencil, so each expansion
+/// recomputes the corners' fractional positions in their cells from the corners, with the
+/// arithmetic of [`CellPoint::locate`] (bit for bit): two subtractions and a multiplication per
+/// coordinate cost less than keeping 64 bytes per particle (issue 6: ≤ 400 B per particle).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Cpdi2Cache {
-    corners: [CellPoint; 4],
+    /// Lower-left node (column, row) of each corner's cell, as [`CellPoint::cell`].
+    cells: [[i32; 2]; 4],
     weight: [f64; 4],
-    gradient_weight: [[f64; 2]; 4],
+    /// w̃1 and w̃2; w̃3 = −w̃1 and w̃4 = −w̃2 (negation is exact).
+    gradient_weight: [[f64; 2]; 2],
+    layout: CornerLayout,
+}
+
+/// Where a particle's corner cells lie, decided once per step in [`Cpdi2::prepare`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum CornerLayout {
     /// No corners, or a degenerate quadrilateral: the linear hat at the particle position.
-    linear_fallback: bool,
+    #[default]
+    LinearFallback,
+    /// Every node of every corner cell is inside the grid (the usual case): no test per node.
+    Interior,
+    /// Some corner cell reaches past the grid edge: nodes outside are dropped.
+    Edge,
+}
+
+/// The corners a stencil is evaluated at: the particle's corners, clamped to r ≥ 0 in
+/// axisymmetry.
+#[inline(always)]
+fn stencil_corners(corners: &[[f64; 2]; 4], axisymmetric: bool) -> [[f64; 2]; 4] {
+    let mut c = *corners;
+    if axisymmetric {
+        for corner in c.iter_mut() {
+            corner[0] = corner[0].max(0.0);
+        }
+    }
+    c
 }
 
 impl ShapeFunction for Cpdi2 {
@@ -76,43 +105,52 @@ impl ShapeFunction for Cpdi2 {
 
     #[inline(always)]
     fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Cpdi2Cache) {
-        // Written field by field, in place; the corner fields are only read without fallback.
-        cache.linear_fallback = true;
-        let Some(&corners) = domain.corners else {
+        // Written field by field, in place; the other fields are only read without fallback.
+        cache.layout = CornerLayout::LinearFallback;
+        let Some(corners) = domain.corners else {
             return;
         };
-        let mut c = corners;
-        if axisymmetric {
-            for corner in c.iter_mut() {
-                corner[0] = corner[0].max(0.0);
-            }
-        }
+        let c = stencil_corners(corners, axisymmetric);
         let (w, wg, v) = corner_weights(&c);
         if v > 0.0 && v.is_finite() {
-            for (located, x) in cache.corners.iter_mut().zip(c) {
-                *located = CellPoint::locate(grid, x);
+            let mut interior = true;
+            for (cell, x) in cache.cells.iter_mut().zip(c) {
+                let located = CellPoint::locate(grid, x);
+                interior &= located.all_nodes_inside(grid);
+                *cell = located.cell;
             }
             cache.weight = w;
-            cache.gradient_weight = wg;
-            cache.linear_fallback = false;
+            cache.gradient_weight = [wg[0], wg[1]];
+            cache.layout = if interior { CornerLayout::Interior } else { CornerLayout::Edge };
         }
     }
 
     #[inline(always)]
-    fn expand(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain, _: bool, out: &mut Stencil) {
+    fn expand(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
         out.clear();
-        if cache.linear_fallback {
-            out.set_box_of_cell(grid, &CellPoint::locate(grid, domain.position));
-            bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
-            return;
+        let corners = match (cache.layout, domain.corners) {
+            (CornerLayout::LinearFallback, _) | (_, None) => {
+                out.set_box_of_cell(grid, &CellPoint::locate(grid, domain.position));
+                bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
+                return;
+            }
+            (_, Some(corners)) => stencil_corners(corners, axisymmetric),
+        };
+        let located: [CellPoint; 4] = std::array::from_fn(|k| CellPoint::in_cell(grid, corners[k], cache.cells[k]));
+        out.set_box_of_cell(grid, &located[0]);
+        for point in &located[1..] {
+            out.grow_box_to_cell(grid, point);
         }
-        out.set_box_of_cell(grid, &cache.corners[0]);
-        for corner in &cache.corners[1..] {
-            out.grow_box_to_cell(grid, corner);
-        }
-        for k in 0..4 {
-            let (wk, gk) = (cache.weight[k], cache.gradient_weight[k]);
-            cache.corners[k].visit_nodes(grid, |node, n, _| out.push(node, wk * n, [gk[0] * n, gk[1] * n]));
+        let [g1, g2] = cache.gradient_weight;
+        let gradient_weight = [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]];
+        for (k, point) in located.iter().enumerate() {
+            let (wk, gk) = (cache.weight[k], gradient_weight[k]);
+            let visit = |node, n: f64, _| out.push(node, wk * n, [gk[0] * n, gk[1] * n]);
+            if cache.layout == CornerLayout::Interior {
+                point.visit_interior_nodes(grid, visit);
+            } else {
+                point.visit_nodes(grid, visit);
+            }
         }
     }
 

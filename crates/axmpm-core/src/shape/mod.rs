@@ -232,26 +232,54 @@ impl CellPoint {
         Self { cell: [clamp(ci, grid.nodes[0]), clamp(cj, grid.nodes[1])], fraction: [l[0] - ci, l[1] - cj] }
     }
 
-    /// Visits the nodes of the cell inside the grid, row by row: (node, weight, gradient).
+    /// A point known to lie in the cell with lower-left node `cell` (one [`CellPoint::locate`]
+    /// gave): the same fraction, bit for bit, without locating it again. (Where `locate`
+    /// clamped the cell, every node of the cell is off the grid and the fraction is never used.)
     #[inline(always)]
-    pub fn visit_nodes(&self, grid: &GridGeometry, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+    pub fn in_cell(grid: &GridGeometry, x: [f64; 2], cell: [i32; 2]) -> Self {
+        let l = grid.local(x);
+        Self { cell, fraction: [l[0] - cell[0] as f64, l[1] - cell[1] as f64] }
+    }
+
+    /// Whether all 4 nodes of the cell are inside the grid.
+    #[inline(always)]
+    pub fn all_nodes_inside(&self, grid: &GridGeometry) -> bool {
+        let [ci, cj] = self.cell;
+        ci >= 0 && cj >= 0 && (ci as usize) + 1 < grid.nodes[0] && (cj as usize) + 1 < grid.nodes[1]
+    }
+
+    /// [`CellPoint::visit_nodes`] for a cell whose 4 nodes are all inside the grid
+    /// ([`CellPoint::all_nodes_inside`]): no test per node, same entries in the same order.
+    #[inline(always)]
+    pub fn visit_interior_nodes(&self, grid: &GridGeometry, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+        debug_assert!(self.all_nodes_inside(grid));
         let [fx, fy] = self.fraction;
         let ih = grid.inverse_cell_size;
         let wx = [1.0 - fx, fx];
         let wy = [1.0 - fy, fy];
         let dx = [-ih, ih];
-        let [ci, cj] = self.cell;
-        if ci >= 0 && cj >= 0 && (ci as usize) + 1 < grid.nodes[0] && (cj as usize) + 1 < grid.nodes[1] {
-            // The usual case, all 4 nodes in the grid: no test per node (same entries, same order).
-            let base = grid.node_index(ci as usize, cj as usize);
-            let nodes = [[base, base + 1], [base + grid.nodes[0], base + grid.nodes[0] + 1]];
-            for b in 0..2 {
-                for a in 0..2 {
-                    visit(nodes[b][a], wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
-                }
+        let base = grid.node_index(self.cell[0] as usize, self.cell[1] as usize);
+        let nodes = [[base, base + 1], [base + grid.nodes[0], base + grid.nodes[0] + 1]];
+        for b in 0..2 {
+            for a in 0..2 {
+                visit(nodes[b][a], wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
             }
+        }
+    }
+
+    /// Visits the nodes of the cell inside the grid, row by row: (node, weight, gradient).
+    #[inline(always)]
+    pub fn visit_nodes(&self, grid: &GridGeometry, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+        if self.all_nodes_inside(grid) {
+            // The usual case: no test per node.
+            self.visit_interior_nodes(grid, visit);
             return;
         }
+        let [fx, fy] = self.fraction;
+        let ih = grid.inverse_cell_size;
+        let wx = [1.0 - fx, fx];
+        let wy = [1.0 - fy, fy];
+        let dx = [-ih, ih];
         for b in 0..2 {
             let j = self.cell[1] as i64 + b as i64;
             if j < 0 || j >= grid.nodes[1] as i64 {
