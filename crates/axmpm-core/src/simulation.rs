@@ -167,6 +167,7 @@ impl Simulation {
             lanes: Vec::new(),
             scratch: Scratch::default(),
             particles,
+            state_lengths: materials.iter().map(|m| m.state_names().len()).collect(),
             materials,
             constraints,
             parameters,

@@ -161,6 +161,9 @@ pub struct State {
     pub scratch: Scratch,
     pub particles: Particles,
     pub materials: Vec<Box<dyn Material>>,
+    /// `state_names().len()` of each material: the part of a particle's state slots its
+    /// material uses (looked up per particle, so kept out of the virtual call).
+    pub state_lengths: Vec<usize>,
     pub constraints: Constraints,
     pub parameters: StepParameters,
     pub time: f64,
@@ -463,10 +466,12 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
         .zip(state.lanes.par_iter_mut())
         .enumerate()
         .for_each(|(k, ((velocity_io, displacement_out), lane))| {
+            // The MUSL re-map scatters the same stencils as particle → grid, so it reaches the
+            // same node box: kept instead of grown again particle by particle.
+            let reached = lane.touched;
             if musl {
                 lane.clear(grid.nodes[0]);
             }
-            let mut touched = NodeBox::EMPTY;
             let mut st = Stencil::default();
             // The lane's particles as slices of one length (no bounds checks in the loop).
             let n = velocity_io.len();
@@ -502,7 +507,6 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 *v_io = v_new;
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
-                    touched.include(&st);
                     let m = mass[i];
                     for (node, w, _) in st.entries() {
                         let sums = &mut lane.nodes[node];
@@ -513,7 +517,7 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 }
             }
             if musl {
-                lane.touched = touched;
+                lane.touched = reached;
             }
         });
     if musl {
@@ -554,6 +558,7 @@ struct UpdateInputs<'a> {
     strain_velocity: &'a [[f64; 2]],
     advect_velocity: &'a [[f64; 2]],
     materials: &'a [Box<dyn Material>],
+    state_lengths: &'a [usize],
     material_ids: &'a [u32],
     initial_volume: &'a [f64],
     initial_half_width: &'a [[f64; 2]],
@@ -711,6 +716,7 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
         },
         advect_velocity: &state.fields.velocity_new,
         materials: &state.materials,
+        state_lengths: &state.state_lengths,
         material_ids: &particles.material,
         initial_volume: &particles.initial_volume,
         initial_half_width: &particles.initial_half_width,
@@ -730,7 +736,7 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
             with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[grid.cell_index(domain.position)])
         }
     };
-    let state_len = |p: usize| inputs.materials[inputs.material_ids[p] as usize].state_names().len();
+    let state_len = |p: usize| inputs.state_lengths[inputs.material_ids[p] as usize];
     let common = particles
         .deformation_gradient
         .par_iter_mut()
