@@ -25,7 +25,7 @@ use crate::formulation::Formulation;
 use crate::grid::{GridFields, GridGeometry};
 use crate::material::{Kinematics, Material};
 use crate::particles::Particles;
-use crate::shape::{ParticleDomain, ShapeFunction, Stencil};
+use crate::shape::{ParticleDomain, ShapeFunction, StencilBox};
 
 /// Number of particle ranges scattered independently in particle → grid.
 pub const LANES: usize = 8;
@@ -86,9 +86,9 @@ impl NodeBox {
         self.columns[0] > self.columns[1] || self.rows[0] > self.rows[1]
     }
 
-    /// Grows the box to contain the stencil's node box.
+    /// Grows the box to contain a stencil's node box.
     #[inline(always)]
-    fn include(&mut self, st: &Stencil) {
+    fn include(&mut self, st: StencilBox) {
         self.columns = [self.columns[0].min(st.columns[0] as usize), self.columns[1].max(st.columns[1] as usize)];
         self.rows = [self.rows[0].min(st.rows[0] as usize), self.rows[1].max(st.rows[1] as usize)];
     }
@@ -277,6 +277,7 @@ fn take_stencil_cache<S: ShapeFunction>(state: &mut State) -> Vec<S::Cache> {
 
 /// Scatters mass, momentum, internal and gravity forces to the nodes, lane by lane, then sums
 /// the lanes in a fixed order. Computes each particle's stencil cache for the step.
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], cache: &mut [S::Cache]) {
     let particles = &state.particles;
     let grid = &state.grid;
@@ -284,7 +285,6 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let nodes_x = grid.nodes[0];
     cache.par_chunks_mut(len).zip(state.lanes.par_iter_mut()).enumerate().for_each(|(k, (lane_cache, lane))| {
         lane.clear(nodes_x);
-        let mut st = Stencil::default();
         let mut touched = NodeBox::EMPTY;
         // The lane's particles as slices of one length, so the loop indexes without bounds checks.
         let n = lane_cache.len();
@@ -304,14 +304,13 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 corners: particles.corners.get(first + i),
             };
             S::prepare(grid, &domain, F::AXISYMMETRIC, c);
-            S::expand(grid, c, &domain, F::AXISYMMETRIC, &mut st);
-            touched.include(&st);
+            touched.include(S::node_box(grid, c, &domain));
             let m = mass[i];
             let v = velocity[i];
             let vol = volume[i];
             let s = stress[i];
             let hoop = F::hoop_factor(position[i]);
-            for (node, w, g) in st.entries() {
+            S::visit_entries(grid, c, &domain, F::AXISYMMETRIC, |node, w, g| {
                 let sums = &mut lane.nodes[node];
                 sums.mass += w * m;
                 sums.momentum[0] += w * m * v[0];
@@ -319,7 +318,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 // Internal force (Sulsky & Schreyer 1996, PHYSICS.md §2) plus gravity.
                 sums.force[0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
                 sums.force[1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
-            }
+            });
         }
         lane.touched = touched;
     });
@@ -449,6 +448,7 @@ fn sign(x: f64) -> f64 {
 
 /// New particle velocities (PIC/FLIP blend) and position increments; with MUSL the new
 /// momentum is scattered back to the grid in the same pass (same stencil, same lanes).
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, cache: &[S::Cache]) {
     let grid = &state.grid;
     let fields = &state.fields;
@@ -472,7 +472,6 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
             if musl {
                 lane.clear(grid.nodes[0]);
             }
-            let mut st = Stencil::default();
             // The lane's particles as slices of one length (no bounds checks in the loop).
             let n = velocity_io.len();
             let first = k * len;
@@ -488,17 +487,16 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                     deformation_gradient: &deformation_gradient[i],
                     corners: corners.get(first + i),
                 };
-                S::expand(grid, &cache[i], &domain, F::AXISYMMETRIC, &mut st);
                 let mut v_grid = [0.0; 2];
                 let mut dv = [0.0; 2];
-                for (node, w, _) in st.entries() {
+                S::visit_entries(grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
                     let vn = fields.velocity_new[node];
                     let vo = fields.velocity[node];
                     v_grid[0] += w * vn[0];
                     v_grid[1] += w * vn[1];
                     dv[0] += w * (vn[0] - vo[0]);
                     dv[1] += w * (vn[1] - vo[1]);
-                }
+                });
                 let v = *v_io;
                 let v_new = [
                     flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
@@ -508,12 +506,12 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
                     let m = mass[i];
-                    for (node, w, _) in st.entries() {
+                    S::visit_entries(grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
                         let sums = &mut lane.nodes[node];
                         let wm = w * m;
                         sums.momentum[0] += wm * v_new[0];
                         sums.momentum[1] += wm * v_new[1];
-                    }
+                    });
                 }
             }
             if musl {
@@ -584,20 +582,17 @@ fn velocity_gradient<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
     domain: &ParticleDomain,
     cache: &S::Cache,
-    st: &mut Stencil,
 ) -> [f64; 5] {
-    S::expand(&inputs.grid, cache, domain, F::AXISYMMETRIC, st);
     let mut l = [0.0; 5];
     let mut vr = 0.0;
-    for e in 0..st.len {
-        let v = inputs.strain_velocity[st.node[e] as usize];
-        let dw = st.gradient[e];
+    S::visit_entries(&inputs.grid, cache, domain, F::AXISYMMETRIC, |node, w, dw| {
+        let v = inputs.strain_velocity[node];
         l[0] += v[0] * dw[0];
         l[1] += v[0] * dw[1];
         l[2] += v[1] * dw[0];
         l[3] += v[1] * dw[1];
-        vr += v[0] * st.weight[e];
-    }
+        vr += v[0] * w;
+    });
     l[4] = vr * F::hoop_factor(domain.position);
     l
 }
@@ -692,6 +687,7 @@ enum GradientSource<'a> {
 /// Velocity gradient, deformation gradient, volume, stress and position of every particle, in
 /// one pass (each particle reads its start-of-step position and domain before moving them).
 /// With cell averaging a first pass stores every velocity gradient and sums the cells.
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 fn update_particles<F: Formulation, S: ShapeFunction>(
     state: &mut State,
     dt: f64,
@@ -730,8 +726,8 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
         GradientSource::Stencil
     };
     let grid = state.grid;
-    let gradient = |p: usize, domain: &ParticleDomain, c: &S::Cache, st: &mut Stencil| match source {
-        GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, domain, c, st),
+    let gradient = |p: usize, domain: &ParticleDomain, c: &S::Cache| match source {
+        GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, domain, c),
         GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
             with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[grid.cell_index(domain.position)])
         }
@@ -750,14 +746,14 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
             .zip(particles.corners.par_iter_mut())
             .enumerate()
             .with_min_len(256)
-            .map_init(Stencil::default, |st, (p, ((((((f, stress), volume), position), s), c), corners))| {
+            .map(|(p, ((((((f, stress), volume), position), s), c), corners))| {
                 let domain = ParticleDomain {
                     position: *position,
                     initial_half_width: inputs.initial_half_width[p],
                     deformation_gradient: f,
                     corners: Some(corners),
                 };
-                let l = gradient(p, &domain, c, st);
+                let l = gradient(p, &domain, c);
                 let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: Some(corners) };
                 update_particle::<F, S>(&inputs, p, u, l)
             })
@@ -766,14 +762,14 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
         common
             .enumerate()
             .with_min_len(256)
-            .map_init(Stencil::default, |st, (p, (((((f, stress), volume), position), s), c))| {
+            .map(|(p, (((((f, stress), volume), position), s), c))| {
                 let domain = ParticleDomain {
                     position: *position,
                     initial_half_width: inputs.initial_half_width[p],
                     deformation_gradient: f,
                     corners: None,
                 };
-                let l = gradient(p, &domain, c, st);
+                let l = gradient(p, &domain, c);
                 let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: None };
                 update_particle::<F, S>(&inputs, p, u, l)
             })
@@ -800,9 +796,9 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
         .zip(cache.par_iter())
         .enumerate()
         .with_min_len(256)
-        .for_each_init(Stencil::default, |st, (p, (l, c))| {
+        .for_each(|(p, (l, c))| {
             let domain = ParticleDomain::of(particles, p);
-            *l = velocity_gradient::<F, S>(inputs, &domain, c, st);
+            *l = velocity_gradient::<F, S>(inputs, &domain, c);
         });
     let grid = &inputs.grid;
     cell_volume.fill(0.0);

@@ -27,7 +27,9 @@
 //! - A degenerate or inverted quadrilateral (V ≤ 0 or not finite) falls back to the linear
 //!   hat at the particle position, so the solver does not divide by zero.
 
-use super::{bilinear_nodes, CellPoint, ParticleDomain, ShapeFunction, Stencil};
+use super::{bilinear_nodes, CellPoint, ParticleDomain, ShapeFunction, StencilBox};
+#[cfg(test)]
+use super::Stencil;
 use crate::grid::GridGeometry;
 
 pub struct Cpdi2;
@@ -126,32 +128,38 @@ impl ShapeFunction for Cpdi2 {
     }
 
     #[inline(always)]
-    fn expand(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
-        out.clear();
+    fn visit_entries(
+        grid: &GridGeometry,
+        cache: &Cpdi2Cache,
+        domain: &ParticleDomain,
+        axisymmetric: bool,
+        mut visit: impl FnMut(usize, f64, [f64; 2]),
+    ) {
         let corners = match (cache.layout, domain.corners) {
-            (CornerLayout::LinearFallback, _) | (_, None) => {
-                out.set_box_of_cell(grid, &CellPoint::locate(grid, domain.position));
-                bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
-                return;
-            }
+            (CornerLayout::LinearFallback, _) | (_, None) => return bilinear_nodes(grid, domain.position, visit),
             (_, Some(corners)) => stencil_corners(corners, axisymmetric),
         };
-        let located: [CellPoint; 4] = std::array::from_fn(|k| CellPoint::in_cell(grid, corners[k], cache.cells[k]));
-        out.set_box_of_cell(grid, &located[0]);
-        for point in &located[1..] {
-            out.grow_box_to_cell(grid, point);
-        }
         let [g1, g2] = cache.gradient_weight;
         let gradient_weight = [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]];
-        for (k, point) in located.iter().enumerate() {
+        for k in 0..4 {
             let (wk, gk) = (cache.weight[k], gradient_weight[k]);
-            let visit = |node, n: f64, _| out.push(node, wk * n, [gk[0] * n, gk[1] * n]);
+            let point = CellPoint::in_cell(grid, corners[k], cache.cells[k]);
+            let corner_entry = |node, n: f64, _| visit(node, wk * n, [gk[0] * n, gk[1] * n]);
             if cache.layout == CornerLayout::Interior {
-                point.visit_interior_nodes(grid, visit);
+                point.visit_interior_nodes(grid, corner_entry);
             } else {
-                point.visit_nodes(grid, visit);
+                point.visit_nodes(grid, corner_entry);
             }
         }
+    }
+
+    #[inline(always)]
+    fn node_box(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain) -> StencilBox {
+        if cache.layout == CornerLayout::LinearFallback || domain.corners.is_none() {
+            return StencilBox::of_cell(grid, CellPoint::locate(grid, domain.position).cell);
+        }
+        let [c0, c1, c2, c3] = cache.cells.map(|cell| StencilBox::of_cell(grid, cell));
+        c0.union(c1).union(c2).union(c3)
     }
 
     #[inline(always)]

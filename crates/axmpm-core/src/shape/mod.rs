@@ -2,9 +2,10 @@
 //! grid nodes i (PHYSICS.md §3).
 //!
 //! Each scheme is a zero-sized type implementing [`ShapeFunction`]; the solver is generic over
-//! it, so the inner loops are compiled once per scheme. A scheme writes a [`Stencil`]: a short
-//! list of (node, weight, gradient) entries. Entries may repeat a node (CPDI2 sums corner
-//! contributions); every consumer simply accumulates, so repeats are harmless.
+//! it, so the inner loops are compiled once per scheme. A scheme's stencil is a short list of
+//! (node, weight, gradient) entries, visited one by one ([`ShapeFunction::visit_entries`]) or
+//! written into a [`Stencil`]. Entries may repeat a node (CPDI2 sums corner contributions);
+//! every consumer simply accumulates, so repeats are harmless.
 //!
 //! Truncation rules shared by all schemes:
 //! - nodes outside the grid are dropped (a particle domain reaching past the grid edge loses
@@ -81,21 +82,10 @@ impl Stencil {
         self.node[..n].iter().zip(&self.weight[..n]).zip(&self.gradient[..n]).map(|((&node, &w), &g)| (node as usize, w, g))
     }
 
-    /// Sets the node box to the nodes of the point's cell (those [`CellPoint::visit_nodes`] can
-    /// visit), clamped to the grid.
+    /// The node box of the stencil.
     #[inline(always)]
-    pub fn set_box_of_cell(&mut self, grid: &GridGeometry, point: &CellPoint) {
-        let (i, j) = point.clamped_cell(grid);
-        self.columns = [i, (i + 1).min(grid.cells[0] as u32)];
-        self.rows = [j, (j + 1).min(grid.cells[1] as u32)];
-    }
-
-    /// Grows the node box to contain the nodes of the point's cell.
-    #[inline(always)]
-    pub fn grow_box_to_cell(&mut self, grid: &GridGeometry, point: &CellPoint) {
-        let (i, j) = point.clamped_cell(grid);
-        self.columns = [self.columns[0].min(i), self.columns[1].max((i + 1).min(grid.cells[0] as u32))];
-        self.rows = [self.rows[0].min(j), self.rows[1].max((j + 1).min(grid.cells[1] as u32))];
+    pub fn node_box(&self) -> StencilBox {
+        StencilBox { columns: self.columns, rows: self.rows }
     }
 
     /// Σ_i S_ip, 1 wherever the particle's support lies inside the grid (partition of unity).
@@ -112,6 +102,42 @@ impl Stencil {
         }
         g
     }
+}
+
+/// A box of grid nodes containing every entry of a stencil: node columns
+/// `columns[0] ..= columns[1]` and rows `rows[0] ..= rows[1]`, inside the grid (it may be
+/// larger than the entries need).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StencilBox {
+    pub columns: [u32; 2],
+    pub rows: [u32; 2],
+}
+
+impl StencilBox {
+    /// The nodes of the cell with lower-left node `cell` (those [`CellPoint::visit_nodes`] can
+    /// visit), the cell clamped to the grid.
+    #[inline(always)]
+    pub fn of_cell(grid: &GridGeometry, cell: [i32; 2]) -> Self {
+        let (i, j) = clamped_cell(grid, cell);
+        Self { columns: [i, (i + 1).min(grid.cells[0] as u32)], rows: [j, (j + 1).min(grid.cells[1] as u32)] }
+    }
+
+    /// The smallest box containing both.
+    #[inline(always)]
+    pub fn union(self, other: Self) -> Self {
+        Self {
+            columns: [self.columns[0].min(other.columns[0]), self.columns[1].max(other.columns[1])],
+            rows: [self.rows[0].min(other.rows[0]), self.rows[1].max(other.rows[1])],
+        }
+    }
+}
+
+/// Lower-left node (column, row) of a cell, clamped to the grid's cells.
+#[inline(always)]
+fn clamped_cell(grid: &GridGeometry, cell: [i32; 2]) -> (u32, u32) {
+    let i = cell[0].clamp(0, grid.cells[0] as i32 - 1);
+    let j = cell[1].clamp(0, grid.cells[1] as i32 - 1);
+    (i as u32, j as u32)
 }
 
 /// What a scheme may read of one particle's domain (borrowed from the particle arrays, so
@@ -152,9 +178,32 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// a GIMP or CPDI2 cache is 150–200 bytes, and returning it by value costs a memcpy call).
     fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Self::Cache);
 
-    /// Writes the stencil from `cache`, made by [`ShapeFunction::prepare`] for the same
-    /// domain at the start of the step (schemes without a cache evaluate `domain`).
-    fn expand(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil);
+    /// Visits the stencil entries (node, S_ip, ∇S_ip) from `cache`, made by
+    /// [`ShapeFunction::prepare`] for the same domain at the start of the step, in a fixed
+    /// order. The solver's loops consume the entries as they are made (the closure is inlined
+    /// into each loop, so a loop that needs no gradient never computes it) instead of writing
+    /// and re-reading a [`Stencil`].
+    fn visit_entries(
+        grid: &GridGeometry,
+        cache: &Self::Cache,
+        domain: &ParticleDomain,
+        axisymmetric: bool,
+        visit: impl FnMut(usize, f64, [f64; 2]),
+    );
+
+    /// A box of grid nodes containing every entry of the stencil from `cache`.
+    fn node_box(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain) -> StencilBox;
+
+    /// Writes the stencil from `cache` (its node box and the entries of
+    /// [`ShapeFunction::visit_entries`], in order).
+    #[inline(always)]
+    fn expand(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+        out.clear();
+        let b = Self::node_box(grid, cache, domain);
+        out.columns = b.columns;
+        out.rows = b.rows;
+        Self::visit_entries(grid, cache, domain, axisymmetric, |node, w, g| out.push(node, w, g));
+    }
 
     /// Writes S_ip and ∇S_ip of a particle domain into `out` (cleared first).
     /// `axisymmetric` asks for domains truncated at the axis r = 0.
@@ -294,14 +343,6 @@ impl CellPoint {
                 visit(node, wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
             }
         }
-    }
-
-    /// Lower-left node (column, row) of the cell, clamped to the grid's cells.
-    #[inline(always)]
-    fn clamped_cell(&self, grid: &GridGeometry) -> (u32, u32) {
-        let i = self.cell[0].clamp(0, grid.cells[0] as i32 - 1);
-        let j = self.cell[1].clamp(0, grid.cells[1] as i32 - 1);
-        (i as u32, j as u32)
     }
 }
 
