@@ -24,11 +24,14 @@ use crate::config::{UpdateScheme, VolumetricAveraging};
 use crate::formulation::Formulation;
 use crate::grid::{GridFields, GridGeometry};
 use crate::material::{Kinematics, Material};
-use crate::particles::Particles;
+use crate::particles::{DeformationGradient, Particles, Stress};
 use crate::shape::{ParticleDomain, ShapeFunction, StencilBox};
 
 /// Number of particle ranges scattered independently in particle → grid.
 pub const LANES: usize = 8;
+
+/// Particles per parallel work item of the update pass.
+const UPDATE_CHUNK: usize = 512;
 
 /// What particle → grid accumulates at one node. The fields of a node are kept together so
 /// that scattering a particle touches one cache line per node instead of one per field.
@@ -732,47 +735,71 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
             with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[grid.cell_index(domain.position)])
         }
     };
-    let state_len = |p: usize| inputs.state_lengths[inputs.material_ids[p] as usize];
-    let common = particles
+    // One chunk of particles, its arrays as slices of one length: a plain loop per chunk
+    // instead of rayon's per-item plumbing (zipped producers, a reduction per particle).
+    #[allow(clippy::too_many_arguments)]
+    let update_chunk = |k: usize,
+                        f: &mut [DeformationGradient],
+                        stress: &mut [Stress],
+                        volume: &mut [f64],
+                        position: &mut [[f64; 2]],
+                        state: &mut [f64],
+                        cache: &[S::Cache],
+                        mut corners: Option<&mut [[[f64; 2]; 4]]>|
+     -> Option<Failure> {
+        let first = k * UPDATE_CHUNK;
+        let n = f.len();
+        let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
+        let initial_half_width = &inputs.initial_half_width[first..first + n];
+        let material_ids = &inputs.material_ids[first..first + n];
+        let mut failure = None;
+        for i in 0..n {
+            let p = first + i;
+            let corners = corners.as_mut().map(|c| &mut c[i]);
+            let domain = ParticleDomain {
+                position: position[i],
+                initial_half_width: initial_half_width[i],
+                deformation_gradient: &f[i],
+                corners: corners.as_deref(),
+            };
+            let l = gradient(p, &domain, &cache[i]);
+            let slots = i * stride..i * stride + inputs.state_lengths[material_ids[i] as usize];
+            let u = ParticleUpdate {
+                f: &mut f[i],
+                stress: &mut stress[i],
+                volume: &mut volume[i],
+                position: &mut position[i],
+                state: &mut state[slots],
+                corners,
+            };
+            let result = update_particle::<F, S>(&inputs, p, u, l);
+            // The lowest failing index of the chunk (chunks are then reduced the same way).
+            if failure.is_none() {
+                failure = result;
+            }
+        }
+        failure
+    };
+    let chunks = particles
         .deformation_gradient
-        .par_iter_mut()
-        .zip(particles.stress.par_iter_mut())
-        .zip(particles.volume.par_iter_mut())
-        .zip(particles.position.par_iter_mut())
-        .zip(particles.state.par_chunks_mut(stride))
-        .zip(cache.par_iter());
+        .par_chunks_mut(UPDATE_CHUNK)
+        .zip(particles.stress.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.volume.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.position.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.state.par_chunks_mut(UPDATE_CHUNK * stride))
+        .zip(cache.par_chunks(UPDATE_CHUNK));
     let failure = if S::USES_CORNERS {
-        common
-            .zip(particles.corners.par_iter_mut())
+        chunks
+            .zip(particles.corners.par_chunks_mut(UPDATE_CHUNK))
             .enumerate()
-            .with_min_len(256)
-            .map(|(p, ((((((f, stress), volume), position), s), c), corners))| {
-                let domain = ParticleDomain {
-                    position: *position,
-                    initial_half_width: inputs.initial_half_width[p],
-                    deformation_gradient: f,
-                    corners: Some(corners),
-                };
-                let l = gradient(p, &domain, c);
-                let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: Some(corners) };
-                update_particle::<F, S>(&inputs, p, u, l)
+            .map(|(k, ((((((f, stress), volume), position), s), c), corners))| {
+                update_chunk(k, f, stress, volume, position, s, c, Some(corners))
             })
             .reduce(|| None, first_failure)
     } else {
-        common
+        chunks
             .enumerate()
-            .with_min_len(256)
-            .map(|(p, (((((f, stress), volume), position), s), c))| {
-                let domain = ParticleDomain {
-                    position: *position,
-                    initial_half_width: inputs.initial_half_width[p],
-                    deformation_gradient: f,
-                    corners: None,
-                };
-                let l = gradient(p, &domain, c);
-                let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: None };
-                update_particle::<F, S>(&inputs, p, u, l)
-            })
+            .map(|(k, (((((f, stress), volume), position), s), c))| update_chunk(k, f, stress, volume, position, s, c, None))
             .reduce(|| None, first_failure)
     };
     failure.map_or(Ok(()), Err)
