@@ -289,6 +289,11 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     cache.par_chunks_mut(len).zip(state.lanes.par_iter_mut()).enumerate().for_each(|(k, (lane_cache, lane))| {
         lane.clear(nodes_x);
         let mut touched = NodeBox::EMPTY;
+        // Local copies of what the loop reads and slices of what it writes: the compiler then
+        // keeps them in registers instead of reloading them after every nodal store (which it
+        // cannot prove does not alias them).
+        let (grid, gravity) = (*grid, gravity);
+        let nodes = &mut lane.nodes[..];
         // The lane's particles as slices of one length, so the loop indexes without bounds checks.
         let n = lane_cache.len();
         let first = k * len;
@@ -306,15 +311,15 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 deformation_gradient: &deformation_gradient[i],
                 corners: particles.corners.get(first + i),
             };
-            S::prepare(grid, &domain, F::AXISYMMETRIC, c);
-            touched.include(S::node_box(grid, c, &domain));
+            S::prepare(&grid, &domain, F::AXISYMMETRIC, c);
+            touched.include(S::node_box(&grid, c, &domain));
             let m = mass[i];
             let v = velocity[i];
             let vol = volume[i];
             let s = stress[i];
             let hoop = F::hoop_factor(position[i]);
-            S::visit_entries(grid, c, &domain, F::AXISYMMETRIC, |node, w, g| {
-                let sums = &mut lane.nodes[node];
+            S::visit_entries(&grid, c, &domain, F::AXISYMMETRIC, |node, w, g| {
+                let sums = &mut nodes[node];
                 sums.mass += w * m;
                 sums.momentum[0] += w * m * v[0];
                 sums.momentum[1] += w * m * v[1];
@@ -475,6 +480,10 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
             if musl {
                 lane.clear(grid.nodes[0]);
             }
+            // Local copies and slices, kept in registers across the nodal stores (see P2G).
+            let grid = *grid;
+            let (velocity_new, velocity_old) = (&fields.velocity_new[..], &fields.velocity[..]);
+            let nodes = &mut lane.nodes[..];
             // The lane's particles as slices of one length (no bounds checks in the loop).
             let n = velocity_io.len();
             let first = k * len;
@@ -492,9 +501,9 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 };
                 let mut v_grid = [0.0; 2];
                 let mut dv = [0.0; 2];
-                S::visit_entries(grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
-                    let vn = fields.velocity_new[node];
-                    let vo = fields.velocity[node];
+                S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
+                    let vn = velocity_new[node];
+                    let vo = velocity_old[node];
                     v_grid[0] += w * vn[0];
                     v_grid[1] += w * vn[1];
                     dv[0] += w * (vn[0] - vo[0]);
@@ -509,8 +518,8 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
                     let m = mass[i];
-                    S::visit_entries(grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
-                        let sums = &mut lane.nodes[node];
+                    S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
+                        let sums = &mut nodes[node];
                         let wm = w * m;
                         sums.momentum[0] += wm * v_new[0];
                         sums.momentum[1] += wm * v_new[1];
@@ -553,6 +562,7 @@ fn remap_velocity(state: &mut State) {
 }
 
 /// Read-only inputs of the per-particle update.
+#[derive(Clone, Copy)]
 struct UpdateInputs<'a> {
     grid: GridGeometry,
     dt: f64,
@@ -728,11 +738,10 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
     } else {
         GradientSource::Stencil
     };
-    let grid = state.grid;
-    let gradient = |p: usize, domain: &ParticleDomain, c: &S::Cache| match source {
-        GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, domain, c),
+    let gradient = |inputs: &UpdateInputs, p: usize, domain: &ParticleDomain, c: &S::Cache| match source {
+        GradientSource::Stencil => velocity_gradient::<F, S>(inputs, domain, c),
         GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
-            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[grid.cell_index(domain.position)])
+            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[inputs.grid.cell_index(domain.position)])
         }
     };
     // One chunk of particles, its arrays as slices of one length: a plain loop per chunk
@@ -747,6 +756,9 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
                         cache: &[S::Cache],
                         mut corners: Option<&mut [[[f64; 2]; 4]]>|
      -> Option<Failure> {
+        // A local copy, kept in registers across the particle's stores (see P2G); not redundant.
+        #[allow(clippy::redundant_locals)]
+        let inputs = inputs;
         let first = k * UPDATE_CHUNK;
         let n = f.len();
         let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
@@ -762,7 +774,7 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
                 deformation_gradient: &f[i],
                 corners: corners.as_deref(),
             };
-            let l = gradient(p, &domain, &cache[i]);
+            let l = gradient(&inputs, p, &domain, &cache[i]);
             let slots = i * stride..i * stride + inputs.state_lengths[material_ids[i] as usize];
             let u = ParticleUpdate {
                 f: &mut f[i],
