@@ -636,12 +636,14 @@ fn with_mean_dilatation<F: Formulation>(mut l: [f64; 5], mean_dilatation: f64) -
 }
 
 /// Deformation gradient, CPDI corners, position, volume and stress of one particle from its
-/// velocity gradient `l`; returns a failure if its new state is invalid.
+/// velocity gradient `l` (and its stencil cache of the step, which the corner advection
+/// reuses); returns a failure if its new state is invalid.
 #[inline(always)]
 fn update_particle<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
     p: usize,
     u: ParticleUpdate,
+    cache: &S::Cache,
     l: [f64; 5],
 ) -> Option<Failure> {
     let grid = &inputs.grid;
@@ -663,7 +665,7 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     x[1] += d[1];
     *u.volume = match u.corners {
         Some(corners) => {
-            S::advect_corners(grid, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
+            S::advect_corners(grid, cache, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
             S::domain_area(corners).unwrap_or(0.0) * F::volume_factor(*x)
         }
         None => inputs.initial_volume[p] * jacobian,
@@ -784,7 +786,7 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
                 state: &mut state[slots],
                 corners,
             };
-            let result = update_particle::<F, S>(&inputs, p, u, l);
+            let result = update_particle::<F, S>(&inputs, p, u, &cache[i], l);
             // The lowest failing index of the chunk (chunks are then reduced the same way).
             if failure.is_none() {
                 failure = result;

@@ -170,9 +170,13 @@ impl ShapeFunction for Cpdi2 {
     /// x_c ← x_c + dt Σ_i N_i(x_c) v_i, with the corner first clamped into the grid box (so a
     /// corner that left the grid is brought back and sees the velocity of the edge cell) and
     /// the moved corner clamped into the box again; in axisymmetry also r ≥ 0.
+    ///
+    /// A corner that the clamp leaves bit for bit where the stencil evaluated it (the usual
+    /// case) lies in the cell `cache` located it in, so it is not located again.
     #[inline(always)]
     fn advect_corners(
         grid: &GridGeometry,
+        cache: &Cpdi2Cache,
         nodal_velocity: &[[f64; 2]],
         dt: f64,
         corners: &mut [[f64; 2]; 4],
@@ -180,14 +184,21 @@ impl ShapeFunction for Cpdi2 {
     ) {
         let lo = grid.origin;
         let hi = grid.upper();
-        for c in corners.iter_mut() {
+        let located = stencil_corners(corners, axisymmetric);
+        let same = |a: [f64; 2], b: [f64; 2]| a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits();
+        for (k, c) in corners.iter_mut().enumerate() {
             let q = [c[0].max(lo[0]).min(hi[0]), c[1].max(lo[1]).min(hi[1])];
             let mut v = [0.0; 2];
-            bilinear_nodes(grid, q, |node, n, _| {
+            let interpolate = |node: usize, n: f64, _| {
                 let vi = nodal_velocity[node];
                 v[0] += n * vi[0];
                 v[1] += n * vi[1];
-            });
+            };
+            if cache.layout == CornerLayout::Interior && same(q, located[k]) {
+                CellPoint::in_cell(grid, q, cache.cells[k]).visit_interior_nodes(grid, interpolate);
+            } else {
+                bilinear_nodes(grid, q, interpolate);
+            }
             c[0] = (q[0] + dt * v[0]).max(lo[0]).min(hi[0]);
             c[1] = (q[1] + dt * v[1]).max(lo[1]).min(hi[1]);
             if axisymmetric {
@@ -465,7 +476,7 @@ mod tests {
             };
             for axi in [false, true] {
                 let mut c = c0;
-                Cpdi2::advect_corners(&g, &vel, dt, &mut c, axi);
+                Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, dt, &mut c, axi);
                 for k in 0..4 {
                     assert!((c[k][0] - (c0[k][0] + v[0] * dt)).abs() < 1e-15);
                     assert!((c[k][1] - (c0[k][1] + v[1] * dt)).abs() < 1e-15);
@@ -488,11 +499,39 @@ mod tests {
                 random_convex_quad(&mut rng, ctr, sz)
             };
             let mut c = c0;
-            Cpdi2::advect_corners(&g, &vel, 0.01, &mut c, false);
+            Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, 0.01, &mut c, false);
             for k in 0..4 {
                 let vk = field(c0[k]);
                 assert!((c[k][0] - (c0[k][0] + 0.01 * vk[0])).abs() < 1e-14);
                 assert!((c[k][1] - (c0[k][1] + 0.01 * vk[1])).abs() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn advect_corners_with_the_step_cache_equals_locating_them_again() {
+        // Quads inside the grid, across its edges and across the axis, in both formulations.
+        let g = grid();
+        let field = |x: [f64; 2]| [0.3 + 2.0 * x[0] - 0.7 * x[1].sin(), -0.1 + 0.4 * x[0] * x[0] + 1.1 * x[1]];
+        let vel: Vec<[f64; 2]> = (0..g.num_nodes()).map(|n| field(g.node_position(n))).collect();
+        let mut rng = Rng(17);
+        for _ in 0..2000 {
+            let c0 = {
+                let ctr = [rng.range(-0.05, 1.05), rng.range(-0.05, 1.05)];
+                let sz = rng.range(0.005, 0.15);
+                random_convex_quad(&mut rng, ctr, sz)
+            };
+            for axi in [false, true] {
+                let p = particle_with_corners(c0);
+                let mut cache = Cpdi2Cache::default();
+                Cpdi2::prepare(&g, &ParticleDomain::of(&p, 0), axi, &mut cache);
+                let (mut a, mut b) = (c0, c0);
+                Cpdi2::advect_corners(&g, &cache, &vel, 0.01, &mut a, axi);
+                Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, 0.01, &mut b, axi);
+                for k in 0..4 {
+                    assert_eq!(a[k][0].to_bits(), b[k][0].to_bits(), "{c0:?}");
+                    assert_eq!(a[k][1].to_bits(), b[k][1].to_bits(), "{c0:?}");
+                }
             }
         }
     }
@@ -503,7 +542,7 @@ mod tests {
         let vel = vec![[-2.0, 3.0]; g.num_nodes()];
         // dt v = (−0.02, 0.03): r = 0.005 → 0 (axis), z = 0.99 → 1 (top of the grid).
         let mut c = [[0.005, 0.95], [0.05, 0.95], [0.05, 0.99], [0.005, 0.99]];
-        Cpdi2::advect_corners(&g, &vel, 0.01, &mut c, true);
+        Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, 0.01, &mut c, true);
         assert_eq!(c[0][0], 0.0);
         assert!((c[0][1] - 0.98).abs() < 1e-15);
         assert!((c[1][0] - 0.03).abs() < 1e-15 && (c[1][1] - 0.98).abs() < 1e-15);
@@ -512,12 +551,12 @@ mod tests {
         // In axisymmetry the axis clamp holds even when the grid starts left of r = 0.
         let g2 = GridGeometry::new([-0.2, 0.0], [1.2, 1.0], 0.1);
         let mut c = [[0.005, 0.5], [0.05, 0.5], [0.05, 0.6], [0.005, 0.6]];
-        Cpdi2::advect_corners(&g2, &vec![[-2.0, 0.0]; g2.num_nodes()], 0.01, &mut c, true);
+        Cpdi2::advect_corners(&g2, &Cpdi2Cache::default(), &vec![[-2.0, 0.0]; g2.num_nodes()], 0.01, &mut c, true);
         assert_eq!(c[0][0], 0.0);
         assert!((c[1][0] - 0.03).abs() < 1e-15);
         // A corner already outside the grid is brought back into the box.
         let mut c = [[-0.2, 0.5], [1.3, 0.5], [0.5, 1.4], [0.5, -0.1]];
-        Cpdi2::advect_corners(&g, &vec![[0.0; 2]; g.num_nodes()], 0.01, &mut c, false);
+        Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vec![[0.0; 2]; g.num_nodes()], 0.01, &mut c, false);
         assert_eq!(c, [[0.0, 0.5], [1.0, 0.5], [0.5, 1.0], [0.5, 0.0]]);
     }
 

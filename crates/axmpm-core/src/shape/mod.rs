@@ -227,10 +227,13 @@ pub trait ShapeFunction: Send + Sync + 'static {
         None
     }
 
-    /// Moves the domain corners with the nodal velocity field (CPDI2 only).
+    /// Moves the domain corners with the nodal velocity field (CPDI2 only). `cache` is the
+    /// one [`ShapeFunction::prepare`] made for the corners at the start of the step (or a
+    /// default cache, which has nothing to reuse).
     #[inline(always)]
     fn advect_corners(
         _grid: &GridGeometry,
+        _cache: &Self::Cache,
         _nodal_velocity: &[[f64; 2]],
         _dt: f64,
         _corners: &mut [[f64; 2]; 4],
