@@ -294,6 +294,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
         // cannot prove does not alias them).
         let (grid, gravity) = (*grid, gravity);
         let nodes = &mut lane.nodes[..];
+        let corners = &particles.corners[..];
         // The lane's particles as slices of one length, so the loop indexes without bounds checks.
         let n = lane_cache.len();
         let first = k * len;
@@ -309,7 +310,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 position: position[i],
                 initial_half_width: initial_half_width[i],
                 deformation_gradient: &deformation_gradient[i],
-                corners: particles.corners.get(first + i),
+                corners: corners.get(first + i),
             };
             S::prepare(&grid, &domain, F::AXISYMMETRIC, c);
             touched.include(S::node_box(&grid, c, &domain));
@@ -481,9 +482,10 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 lane.clear(grid.nodes[0]);
             }
             // Local copies and slices, kept in registers across the nodal stores (see P2G).
-            let grid = *grid;
+            let (grid, flip, dt, musl) = (*grid, flip, dt, musl);
             let (velocity_new, velocity_old) = (&fields.velocity_new[..], &fields.velocity[..]);
             let nodes = &mut lane.nodes[..];
+            let corners: &[[[f64; 2]; 4]] = corners;
             // The lane's particles as slices of one length (no bounds checks in the loop).
             let n = velocity_io.len();
             let first = k * len;
