@@ -158,8 +158,9 @@ impl ShapeFunction for Cpdi2 {
         if cache.layout == CornerLayout::LinearFallback || domain.corners.is_none() {
             return StencilBox::of_cell(grid, CellPoint::locate(grid, domain.position).cell);
         }
-        let [c0, c1, c2, c3] = cache.cells.map(|cell| StencilBox::of_cell(grid, cell));
-        c0.union(c1).union(c2).union(c3)
+        // Unrolled by hand: `array::map` is not always inlined, and this runs once per particle.
+        let of = |k: usize| StencilBox::of_cell(grid, cache.cells[k]);
+        of(0).union(of(1)).union(of(2)).union(of(3))
     }
 
     #[inline(always)]
