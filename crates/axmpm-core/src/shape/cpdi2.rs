@@ -27,7 +27,7 @@
 //! - A degenerate or inverted quadrilateral (V ≤ 0 or not finite) falls back to the linear
 //!   hat at the particle position, so the solver does not divide by zero.
 
-use super::{bilinear_nodes, CellPoint, ParticleDomain, ShapeFunction, StencilBox};
+use super::{at_least, bilinear_nodes, clamp_between, CellPoint, ParticleDomain, ShapeFunction, StencilBox};
 #[cfg(test)]
 use super::Stencil;
 use crate::grid::GridGeometry;
@@ -93,7 +93,7 @@ fn stencil_corners(corners: &[[f64; 2]; 4], axisymmetric: bool) -> [[f64; 2]; 4]
     let mut c = *corners;
     if axisymmetric {
         for corner in c.iter_mut() {
-            corner[0] = corner[0].max(0.0);
+            corner[0] = at_least(corner[0], 0.0);
         }
     }
     c
@@ -188,7 +188,7 @@ impl ShapeFunction for Cpdi2 {
         let located = stencil_corners(corners, axisymmetric);
         let same = |a: [f64; 2], b: [f64; 2]| a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits();
         for (k, c) in corners.iter_mut().enumerate() {
-            let q = [c[0].max(lo[0]).min(hi[0]), c[1].max(lo[1]).min(hi[1])];
+            let q = [clamp_between(c[0], lo[0], hi[0]), clamp_between(c[1], lo[1], hi[1])];
             let mut v = [0.0; 2];
             let interpolate = |node: usize, n: f64, _| {
                 let vi = nodal_velocity[node];
@@ -200,10 +200,10 @@ impl ShapeFunction for Cpdi2 {
             } else {
                 bilinear_nodes(grid, q, interpolate);
             }
-            c[0] = (q[0] + dt * v[0]).max(lo[0]).min(hi[0]);
-            c[1] = (q[1] + dt * v[1]).max(lo[1]).min(hi[1]);
+            c[0] = clamp_between(q[0] + dt * v[0], lo[0], hi[0]);
+            c[1] = clamp_between(q[1] + dt * v[1], lo[1], hi[1]);
             if axisymmetric {
-                c[0] = c[0].max(0.0);
+                c[0] = at_least(c[0], 0.0);
             }
         }
     }
