@@ -112,6 +112,9 @@ impl Lane {
     }
 
     /// Zeroes the buffers where the previous scatter wrote (`nodes_x` nodes per grid row).
+    /// Not inlined (one call per lane and pass): inlined, it changed the compiled scatter
+    /// loops around it from one build to the next.
+    #[inline(never)]
     fn clear(&mut self, nodes_x: usize) {
         let b = self.touched;
         if !b.is_empty() {

@@ -114,7 +114,8 @@ impl ShapeFunction for Cpdi2 {
         };
         let c = stencil_corners(corners, axisymmetric);
         let (w, wg, v) = corner_weights(&c);
-        if v > 0.0 && v.is_finite() {
+        // 0 < V < ∞ (false for NaN): the same test as `v > 0.0 && v.is_finite()`, in two compares.
+        if v > 0.0 && v < f64::INFINITY {
             let mut interior = true;
             for (cell, x) in cache.cells.iter_mut().zip(c) {
                 let located = CellPoint::locate(grid, x);
@@ -157,6 +158,14 @@ impl ShapeFunction for Cpdi2 {
     fn node_box(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain) -> StencilBox {
         if cache.layout == CornerLayout::LinearFallback || domain.corners.is_none() {
             return StencilBox::of_cell(grid, CellPoint::locate(grid, domain.position).cell);
+        }
+        if cache.layout == CornerLayout::Interior {
+            // Every corner cell lies inside the grid: no clamping, the box is the cells' range
+            // and one more node.
+            let [c0, c1, c2, c3] = cache.cells;
+            let (i0, i1) = (c0[0].min(c1[0]).min(c2[0]).min(c3[0]), c0[0].max(c1[0]).max(c2[0]).max(c3[0]));
+            let (j0, j1) = (c0[1].min(c1[1]).min(c2[1]).min(c3[1]), c0[1].max(c1[1]).max(c2[1]).max(c3[1]));
+            return StencilBox { columns: [i0 as u32, i1 as u32 + 1], rows: [j0 as u32, j1 as u32 + 1] };
         }
         // Unrolled by hand: `array::map` is not always inlined, and this runs once per particle.
         let of = |k: usize| StencilBox::of_cell(grid, cache.cells[k]);
