@@ -61,8 +61,9 @@ fn main() {
     hash(&mut h, p.state.iter().copied());
     hash(&mut h, p.corners.iter().flatten().flatten().copied());
     println!(
-        "{scheme} {formulation} threads={threads} N={} steps={steps} {:.3} M particle-steps/s hash={h:016x}",
+        "{scheme} {formulation} threads={threads} N={} steps={steps} {:.3} M particle-steps/s hash={h:016x} bytes/particle={}",
         p.len(),
-        steps as f64 * p.len() as f64 / el / 1e6
+        steps as f64 * p.len() as f64 / el / 1e6,
+        sim.bytes_per_particle()
     );
 }

@@ -82,6 +82,23 @@ impl Particles {
         ]
     }
 
+    /// Releases the spare capacity that growing the arrays particle by particle left (up to
+    /// twice the particle count per array): the particle count is fixed for the whole run.
+    pub fn shrink_to_fit(&mut self) {
+        self.position.shrink_to_fit();
+        self.velocity.shrink_to_fit();
+        self.mass.shrink_to_fit();
+        self.initial_volume.shrink_to_fit();
+        self.volume.shrink_to_fit();
+        self.initial_position.shrink_to_fit();
+        self.deformation_gradient.shrink_to_fit();
+        self.stress.shrink_to_fit();
+        self.material.shrink_to_fit();
+        self.initial_half_width.shrink_to_fit();
+        self.corners.shrink_to_fit();
+        self.state.shrink_to_fit();
+    }
+
     /// Bytes held per particle by the arrays above (for the benchmark's memory figure).
     pub fn bytes_per_particle(&self) -> usize {
         let n = self.len().max(1);

@@ -122,7 +122,7 @@ impl Simulation {
         let s = &config.simulation;
         let axisymmetric = s.formulation == FormulationKind::Axisymmetric;
         let with_corners = uses_corners(s.shape_function);
-        let (particles, time, steps) = match restored {
+        let (mut particles, time, steps) = match restored {
             Some(r) => r,
             None => {
                 let particles = match s.formulation {
@@ -136,6 +136,7 @@ impl Simulation {
                 (particles, 0.0, 0)
             }
         };
+        particles.shrink_to_fit();
         if particles.is_empty() {
             return Err("bodies: no particle was created (is every body at least one cell in size?)".into());
         }
@@ -166,6 +167,7 @@ impl Simulation {
             lanes: Vec::new(),
             scratch: Scratch::default(),
             particles,
+            state_lengths: materials.iter().map(|m| m.state_names().len()).collect(),
             materials,
             constraints,
             parameters,
@@ -257,8 +259,8 @@ impl Simulation {
         self.dt
     }
     /// Bytes held per particle: the particle arrays plus the per-particle scratch of the step
-    /// (position increments and the scheme's stencil cache; the grid and its lanes are counted
-    /// separately, per node).
+    /// (position increments, the scheme's stencil cache and, with cell averaging, the velocity
+    /// gradients; the grid and its lanes are counted separately, per node).
     pub fn bytes_per_particle(&self) -> usize {
         let n = self.state.particles.len().max(1);
         let sc = &self.state.scratch;
@@ -268,7 +270,9 @@ impl Simulation {
             ShapeFunctionKind::Cpgimp => std::mem::size_of::<<CpGimp as ShapeFunction>::Cache>(),
             ShapeFunctionKind::Cpdi2 => std::mem::size_of::<<Cpdi2 as ShapeFunction>::Cache>(),
         };
-        self.state.particles.bytes_per_particle() + sc.displacement.capacity() * 16 / n + cache
+        let scratch = sc.displacement.capacity() * std::mem::size_of::<[f64; 2]>()
+            + sc.velocity_gradient.capacity() * std::mem::size_of::<[f64; 5]>();
+        self.state.particles.bytes_per_particle() + scratch / n + cache
     }
     pub fn threads(&self) -> usize {
         self.pool.current_num_threads()

@@ -24,11 +24,14 @@ use crate::config::{UpdateScheme, VolumetricAveraging};
 use crate::formulation::Formulation;
 use crate::grid::{GridFields, GridGeometry};
 use crate::material::{Kinematics, Material};
-use crate::particles::Particles;
-use crate::shape::{ParticleDomain, ShapeFunction, Stencil};
+use crate::particles::{DeformationGradient, Particles, Stress};
+use crate::shape::{ParticleDomain, ShapeFunction, StencilBox};
 
 /// Number of particle ranges scattered independently in particle → grid.
 pub const LANES: usize = 8;
+
+/// Particles per parallel work item of the update pass.
+const UPDATE_CHUNK: usize = 512;
 
 /// What particle → grid accumulates at one node. The fields of a node are kept together so
 /// that scattering a particle touches one cache line per node instead of one per field.
@@ -86,9 +89,9 @@ impl NodeBox {
         self.columns[0] > self.columns[1] || self.rows[0] > self.rows[1]
     }
 
-    /// Grows the box to contain the stencil's node box.
+    /// Grows the box to contain a stencil's node box.
     #[inline(always)]
-    fn include(&mut self, st: &Stencil) {
+    fn include(&mut self, st: StencilBox) {
         self.columns = [self.columns[0].min(st.columns[0] as usize), self.columns[1].max(st.columns[1] as usize)];
         self.rows = [self.rows[0].min(st.rows[0] as usize), self.rows[1].max(st.rows[1] as usize)];
     }
@@ -109,6 +112,9 @@ impl Lane {
     }
 
     /// Zeroes the buffers where the previous scatter wrote (`nodes_x` nodes per grid row).
+    /// Not inlined (one call per lane and pass): inlined, it changed the compiled scatter
+    /// loops around it from one build to the next.
+    #[inline(never)]
     fn clear(&mut self, nodes_x: usize) {
         let b = self.touched;
         if !b.is_empty() {
@@ -161,6 +167,9 @@ pub struct State {
     pub scratch: Scratch,
     pub particles: Particles,
     pub materials: Vec<Box<dyn Material>>,
+    /// `state_names().len()` of each material: the part of a particle's state slots its
+    /// material uses (looked up per particle, so kept out of the virtual call).
+    pub state_lengths: Vec<usize>,
     pub constraints: Constraints,
     pub parameters: StepParameters,
     pub time: f64,
@@ -274,6 +283,7 @@ fn take_stencil_cache<S: ShapeFunction>(state: &mut State) -> Vec<S::Cache> {
 
 /// Scatters mass, momentum, internal and gravity forces to the nodes, lane by lane, then sums
 /// the lanes in a fixed order. Computes each particle's stencil cache for the step.
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], cache: &mut [S::Cache]) {
     let particles = &state.particles;
     let grid = &state.grid;
@@ -281,8 +291,13 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let nodes_x = grid.nodes[0];
     cache.par_chunks_mut(len).zip(state.lanes.par_iter_mut()).enumerate().for_each(|(k, (lane_cache, lane))| {
         lane.clear(nodes_x);
-        let mut st = Stencil::default();
         let mut touched = NodeBox::EMPTY;
+        // Local copies of what the loop reads and slices of what it writes: the compiler then
+        // keeps them in registers instead of reloading them after every nodal store (which it
+        // cannot prove does not alias them).
+        let (grid, gravity) = (*grid, gravity);
+        let nodes = &mut lane.nodes[..];
+        let corners = &particles.corners[..];
         // The lane's particles as slices of one length, so the loop indexes without bounds checks.
         let n = lane_cache.len();
         let first = k * len;
@@ -298,25 +313,24 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
                 position: position[i],
                 initial_half_width: initial_half_width[i],
                 deformation_gradient: &deformation_gradient[i],
-                corners: particles.corners.get(first + i),
+                corners: corners.get(first + i),
             };
-            S::prepare(grid, &domain, F::AXISYMMETRIC, c);
-            S::expand(grid, c, &domain, F::AXISYMMETRIC, &mut st);
-            touched.include(&st);
+            S::prepare(&grid, &domain, F::AXISYMMETRIC, c);
+            touched.include(S::node_box(&grid, c, &domain));
             let m = mass[i];
             let v = velocity[i];
             let vol = volume[i];
             let s = stress[i];
             let hoop = F::hoop_factor(position[i]);
-            for (node, w, g) in st.entries() {
-                let sums = &mut lane.nodes[node];
+            S::visit_entries(&grid, c, &domain, F::AXISYMMETRIC, |node, w, g| {
+                let sums = &mut nodes[node];
                 sums.mass += w * m;
                 sums.momentum[0] += w * m * v[0];
                 sums.momentum[1] += w * m * v[1];
                 // Internal force (Sulsky & Schreyer 1996, PHYSICS.md §2) plus gravity.
                 sums.force[0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
                 sums.force[1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
-            }
+            });
         }
         lane.touched = touched;
     });
@@ -446,6 +460,7 @@ fn sign(x: f64) -> f64 {
 
 /// New particle velocities (PIC/FLIP blend) and position increments; with MUSL the new
 /// momentum is scattered back to the grid in the same pass (same stencil, same lanes).
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, cache: &[S::Cache]) {
     let grid = &state.grid;
     let fields = &state.fields;
@@ -463,11 +478,17 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
         .zip(state.lanes.par_iter_mut())
         .enumerate()
         .for_each(|(k, ((velocity_io, displacement_out), lane))| {
+            // The MUSL re-map scatters the same stencils as particle → grid, so it reaches the
+            // same node box: kept instead of grown again particle by particle.
+            let reached = lane.touched;
             if musl {
                 lane.clear(grid.nodes[0]);
             }
-            let mut touched = NodeBox::EMPTY;
-            let mut st = Stencil::default();
+            // Local copies and slices, kept in registers across the nodal stores (see P2G).
+            let (grid, flip, dt, musl) = (*grid, flip, dt, musl);
+            let (velocity_new, velocity_old) = (&fields.velocity_new[..], &fields.velocity[..]);
+            let nodes = &mut lane.nodes[..];
+            let corners: &[[[f64; 2]; 4]] = corners;
             // The lane's particles as slices of one length (no bounds checks in the loop).
             let n = velocity_io.len();
             let first = k * len;
@@ -483,17 +504,16 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                     deformation_gradient: &deformation_gradient[i],
                     corners: corners.get(first + i),
                 };
-                S::expand(grid, &cache[i], &domain, F::AXISYMMETRIC, &mut st);
                 let mut v_grid = [0.0; 2];
                 let mut dv = [0.0; 2];
-                for (node, w, _) in st.entries() {
-                    let vn = fields.velocity_new[node];
-                    let vo = fields.velocity[node];
+                S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
+                    let vn = velocity_new[node];
+                    let vo = velocity_old[node];
                     v_grid[0] += w * vn[0];
                     v_grid[1] += w * vn[1];
                     dv[0] += w * (vn[0] - vo[0]);
                     dv[1] += w * (vn[1] - vo[1]);
-                }
+                });
                 let v = *v_io;
                 let v_new = [
                     flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
@@ -502,18 +522,17 @@ fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64
                 *v_io = v_new;
                 *dx = [dt * v_grid[0], dt * v_grid[1]];
                 if musl {
-                    touched.include(&st);
                     let m = mass[i];
-                    for (node, w, _) in st.entries() {
-                        let sums = &mut lane.nodes[node];
+                    S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
+                        let sums = &mut nodes[node];
                         let wm = w * m;
                         sums.momentum[0] += wm * v_new[0];
                         sums.momentum[1] += wm * v_new[1];
-                    }
+                    });
                 }
             }
             if musl {
-                lane.touched = touched;
+                lane.touched = reached;
             }
         });
     if musl {
@@ -548,12 +567,14 @@ fn remap_velocity(state: &mut State) {
 }
 
 /// Read-only inputs of the per-particle update.
+#[derive(Clone, Copy)]
 struct UpdateInputs<'a> {
     grid: GridGeometry,
     dt: f64,
     strain_velocity: &'a [[f64; 2]],
     advect_velocity: &'a [[f64; 2]],
     materials: &'a [Box<dyn Material>],
+    state_lengths: &'a [usize],
     material_ids: &'a [u32],
     initial_volume: &'a [f64],
     initial_half_width: &'a [[f64; 2]],
@@ -579,20 +600,17 @@ fn velocity_gradient<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
     domain: &ParticleDomain,
     cache: &S::Cache,
-    st: &mut Stencil,
 ) -> [f64; 5] {
-    S::expand(&inputs.grid, cache, domain, F::AXISYMMETRIC, st);
     let mut l = [0.0; 5];
     let mut vr = 0.0;
-    for e in 0..st.len {
-        let v = inputs.strain_velocity[st.node[e] as usize];
-        let dw = st.gradient[e];
+    S::visit_entries(&inputs.grid, cache, domain, F::AXISYMMETRIC, |node, w, dw| {
+        let v = inputs.strain_velocity[node];
         l[0] += v[0] * dw[0];
         l[1] += v[0] * dw[1];
         l[2] += v[1] * dw[0];
         l[3] += v[1] * dw[1];
-        vr += v[0] * st.weight[e];
-    }
+        vr += v[0] * w;
+    });
     l[4] = vr * F::hoop_factor(domain.position);
     l
 }
@@ -623,12 +641,14 @@ fn with_mean_dilatation<F: Formulation>(mut l: [f64; 5], mean_dilatation: f64) -
 }
 
 /// Deformation gradient, CPDI corners, position, volume and stress of one particle from its
-/// velocity gradient `l`; returns a failure if its new state is invalid.
+/// velocity gradient `l` (and its stencil cache of the step, which the corner advection
+/// reuses); returns a failure if its new state is invalid.
 #[inline(always)]
 fn update_particle<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
     p: usize,
     u: ParticleUpdate,
+    cache: &S::Cache,
     l: [f64; 5],
 ) -> Option<Failure> {
     let grid = &inputs.grid;
@@ -650,7 +670,7 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     x[1] += d[1];
     *u.volume = match u.corners {
         Some(corners) => {
-            S::advect_corners(grid, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
+            S::advect_corners(grid, cache, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
             S::domain_area(corners).unwrap_or(0.0) * F::volume_factor(*x)
         }
         None => inputs.initial_volume[p] * jacobian,
@@ -687,6 +707,7 @@ enum GradientSource<'a> {
 /// Velocity gradient, deformation gradient, volume, stress and position of every particle, in
 /// one pass (each particle reads its start-of-step position and domain before moving them).
 /// With cell averaging a first pass stores every velocity gradient and sums the cells.
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 fn update_particles<F: Formulation, S: ShapeFunction>(
     state: &mut State,
     dt: f64,
@@ -711,6 +732,7 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
         },
         advect_velocity: &state.fields.velocity_new,
         materials: &state.materials,
+        state_lengths: &state.state_lengths,
         material_ids: &particles.material,
         initial_volume: &particles.initial_volume,
         initial_half_width: &particles.initial_half_width,
@@ -723,54 +745,80 @@ fn update_particles<F: Formulation, S: ShapeFunction>(
     } else {
         GradientSource::Stencil
     };
-    let grid = state.grid;
-    let gradient = |p: usize, domain: &ParticleDomain, c: &S::Cache, st: &mut Stencil| match source {
-        GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, domain, c, st),
+    let gradient = |inputs: &UpdateInputs, p: usize, domain: &ParticleDomain, c: &S::Cache| match source {
+        GradientSource::Stencil => velocity_gradient::<F, S>(inputs, domain, c),
         GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
-            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[grid.cell_index(domain.position)])
+            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[inputs.grid.cell_index(domain.position)])
         }
     };
-    let state_len = |p: usize| inputs.materials[inputs.material_ids[p] as usize].state_names().len();
-    let common = particles
+    // One chunk of particles, its arrays as slices of one length: a plain loop per chunk
+    // instead of rayon's per-item plumbing (zipped producers, a reduction per particle).
+    #[allow(clippy::too_many_arguments)]
+    let update_chunk = |k: usize,
+                        f: &mut [DeformationGradient],
+                        stress: &mut [Stress],
+                        volume: &mut [f64],
+                        position: &mut [[f64; 2]],
+                        state: &mut [f64],
+                        cache: &[S::Cache],
+                        mut corners: Option<&mut [[[f64; 2]; 4]]>|
+     -> Option<Failure> {
+        // A local copy, kept in registers across the particle's stores (see P2G); not redundant.
+        #[allow(clippy::redundant_locals)]
+        let inputs = inputs;
+        let first = k * UPDATE_CHUNK;
+        let n = f.len();
+        let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
+        let initial_half_width = &inputs.initial_half_width[first..first + n];
+        let material_ids = &inputs.material_ids[first..first + n];
+        let mut failure = None;
+        for i in 0..n {
+            let p = first + i;
+            let corners = corners.as_mut().map(|c| &mut c[i]);
+            let domain = ParticleDomain {
+                position: position[i],
+                initial_half_width: initial_half_width[i],
+                deformation_gradient: &f[i],
+                corners: corners.as_deref(),
+            };
+            let l = gradient(&inputs, p, &domain, &cache[i]);
+            let slots = i * stride..i * stride + inputs.state_lengths[material_ids[i] as usize];
+            let u = ParticleUpdate {
+                f: &mut f[i],
+                stress: &mut stress[i],
+                volume: &mut volume[i],
+                position: &mut position[i],
+                state: &mut state[slots],
+                corners,
+            };
+            let result = update_particle::<F, S>(&inputs, p, u, &cache[i], l);
+            // The lowest failing index of the chunk (chunks are then reduced the same way).
+            if failure.is_none() {
+                failure = result;
+            }
+        }
+        failure
+    };
+    let chunks = particles
         .deformation_gradient
-        .par_iter_mut()
-        .zip(particles.stress.par_iter_mut())
-        .zip(particles.volume.par_iter_mut())
-        .zip(particles.position.par_iter_mut())
-        .zip(particles.state.par_chunks_mut(stride))
-        .zip(cache.par_iter());
+        .par_chunks_mut(UPDATE_CHUNK)
+        .zip(particles.stress.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.volume.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.position.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.state.par_chunks_mut(UPDATE_CHUNK * stride))
+        .zip(cache.par_chunks(UPDATE_CHUNK));
     let failure = if S::USES_CORNERS {
-        common
-            .zip(particles.corners.par_iter_mut())
+        chunks
+            .zip(particles.corners.par_chunks_mut(UPDATE_CHUNK))
             .enumerate()
-            .with_min_len(256)
-            .map_init(Stencil::default, |st, (p, ((((((f, stress), volume), position), s), c), corners))| {
-                let domain = ParticleDomain {
-                    position: *position,
-                    initial_half_width: inputs.initial_half_width[p],
-                    deformation_gradient: f,
-                    corners: Some(corners),
-                };
-                let l = gradient(p, &domain, c, st);
-                let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: Some(corners) };
-                update_particle::<F, S>(&inputs, p, u, l)
+            .map(|(k, ((((((f, stress), volume), position), s), c), corners))| {
+                update_chunk(k, f, stress, volume, position, s, c, Some(corners))
             })
             .reduce(|| None, first_failure)
     } else {
-        common
+        chunks
             .enumerate()
-            .with_min_len(256)
-            .map_init(Stencil::default, |st, (p, (((((f, stress), volume), position), s), c))| {
-                let domain = ParticleDomain {
-                    position: *position,
-                    initial_half_width: inputs.initial_half_width[p],
-                    deformation_gradient: f,
-                    corners: None,
-                };
-                let l = gradient(p, &domain, c, st);
-                let u = ParticleUpdate { f, stress, volume, position, state: &mut s[..state_len(p)], corners: None };
-                update_particle::<F, S>(&inputs, p, u, l)
-            })
+            .map(|(k, (((((f, stress), volume), position), s), c))| update_chunk(k, f, stress, volume, position, s, c, None))
             .reduce(|| None, first_failure)
     };
     failure.map_or(Ok(()), Err)
@@ -794,9 +842,9 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
         .zip(cache.par_iter())
         .enumerate()
         .with_min_len(256)
-        .for_each_init(Stencil::default, |st, (p, (l, c))| {
+        .for_each(|(p, (l, c))| {
             let domain = ParticleDomain::of(particles, p);
-            *l = velocity_gradient::<F, S>(inputs, &domain, c, st);
+            *l = velocity_gradient::<F, S>(inputs, &domain, c);
         });
     let grid = &inputs.grid;
     cell_volume.fill(0.0);

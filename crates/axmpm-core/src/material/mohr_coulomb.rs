@@ -228,6 +228,8 @@ pub struct MohrCoulomb {
     /// C r_g / (r_gᵀ C r_l): t = n · (σ_B − σ_a).
     n_l1: [f64; 3],
     n_l2: [f64; 3],
+    /// 1e-9 (1 + |k|): the margin of [`Self::clearly_elastic`] per unit stress scale.
+    elastic_margin: f64,
 }
 
 #[inline(always)]
@@ -306,6 +308,7 @@ impl MohrCoulomb {
             r_l2,
             n_l1,
             n_l2,
+            elastic_margin: 1e-9 * (1.0 + k.abs()),
         }
     }
 
@@ -462,11 +465,14 @@ impl MohrCoulomb {
         let centre = 0.5 * (tr[0] + tr[1]);
         let half = 0.5 * (tr[0] - tr[1]);
         let r = (half * half + tr[3] * tr[3]).sqrt();
-        let s1 = (centre + r).max(tr[2]);
-        let s3 = (centre - r).min(tr[2]);
+        // Plain comparisons instead of f64::max/min (no NaN handling needed: a NaN anywhere
+        // makes `scale`, hence the margin, NaN, and the test false).
+        let (a, b) = (centre + r, centre - r);
+        let s1 = if a > tr[2] { a } else { tr[2] };
+        let s3 = if b < tr[2] { b } else { tr[2] };
         let scale = centre.abs() + r + tr[2].abs() + self.two_c_sqrt_k + self.sigma_t.abs();
         // The absolute term covers the underflow of `half * half` for tiny stresses.
-        let margin = 1e-9 * (1.0 + self.k.abs()) * scale + 1e-140;
+        let margin = self.elastic_margin * scale + 1e-140;
         self.yield_function(&[s1, 0.0, s3]) < -margin && (!self.cutoff || s1 < self.sigma_t - margin)
     }
 

@@ -27,7 +27,9 @@
 //! - A degenerate or inverted quadrilateral (V ≤ 0 or not finite) falls back to the linear
 //!   hat at the particle position, so the solver does not divide by zero.
 
-use super::{bilinear_nodes, CellPoint, ParticleDomain, ShapeFunction, Stencil};
+use super::{at_least, bilinear_nodes, clamp_between, CellPoint, ParticleDomain, ShapeFunction, StencilBox};
+#[cfg(test)]
+use super::Stencil;
 use crate::grid::GridGeometry;
 
 pub struct Cpdi2;
@@ -55,17 +57,46 @@ fn corner_weights(c: &[[f64; 2]; 4]) -> ([f64; 4], [[f64; 2]; 4], f64) {
     (w, [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]], v)
 }
 
-/// What CPDI2 keeps of a particle between the passes of a step: its corners (start of the
-/// step, clamped to the axis) located in their cells and the corner weights, so the 16-entry
-/// stencil is expanded without recomputing them. The corners themselves move only at the end
-/// of the step ([`Cpdi2::advect_corners`]), after every pass has used the stencil.
+/// What CPDI2 keeps of a particle between the passes of a step: the cell of each corner
+/// (start of the step, clamped to the axis) and the corner weights, so the 16-entry stencil
+/// is expanded without recomputing them. The corners themselves move only at the end of the
+/// step ([`Cpdi2::advect_corners`]), after every pass has used the stencil, so each expansion
+/// recomputes the corners' fractional positions in their cells from the corners, with the
+/// arithmetic of [`CellPoint::locate`] (bit for bit): two subtractions and a multiplication per
+/// coordinate cost less than keeping 64 bytes per particle (issue 6: ≤ 400 B per particle).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Cpdi2Cache {
-    corners: [CellPoint; 4],
+    /// Lower-left node (column, row) of each corner's cell, as [`CellPoint::cell`].
+    cells: [[i32; 2]; 4],
     weight: [f64; 4],
-    gradient_weight: [[f64; 2]; 4],
+    /// w̃1 and w̃2; w̃3 = −w̃1 and w̃4 = −w̃2 (negation is exact).
+    gradient_weight: [[f64; 2]; 2],
+    layout: CornerLayout,
+}
+
+/// Where a particle's corner cells lie, decided once per step in [`Cpdi2::prepare`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum CornerLayout {
     /// No corners, or a degenerate quadrilateral: the linear hat at the particle position.
-    linear_fallback: bool,
+    #[default]
+    LinearFallback,
+    /// Every node of every corner cell is inside the grid (the usual case): no test per node.
+    Interior,
+    /// Some corner cell reaches past the grid edge: nodes outside are dropped.
+    Edge,
+}
+
+/// The corners a stencil is evaluated at: the particle's corners, clamped to r ≥ 0 in
+/// axisymmetry.
+#[inline(always)]
+fn stencil_corners(corners: &[[f64; 2]; 4], axisymmetric: bool) -> [[f64; 2]; 4] {
+    let mut c = *corners;
+    if axisymmetric {
+        for corner in c.iter_mut() {
+            corner[0] = at_least(corner[0], 0.0);
+        }
+    }
+    c
 }
 
 impl ShapeFunction for Cpdi2 {
@@ -76,44 +107,69 @@ impl ShapeFunction for Cpdi2 {
 
     #[inline(always)]
     fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Cpdi2Cache) {
-        // Written field by field, in place; the corner fields are only read without fallback.
-        cache.linear_fallback = true;
-        let Some(&corners) = domain.corners else {
+        // Written field by field, in place; the other fields are only read without fallback.
+        cache.layout = CornerLayout::LinearFallback;
+        let Some(corners) = domain.corners else {
             return;
         };
-        let mut c = corners;
-        if axisymmetric {
-            for corner in c.iter_mut() {
-                corner[0] = corner[0].max(0.0);
-            }
-        }
+        let c = stencil_corners(corners, axisymmetric);
         let (w, wg, v) = corner_weights(&c);
-        if v > 0.0 && v.is_finite() {
-            for (located, x) in cache.corners.iter_mut().zip(c) {
-                *located = CellPoint::locate(grid, x);
+        // 0 < V < ∞ (false for NaN): the same test as `v > 0.0 && v.is_finite()`, in two compares.
+        if v > 0.0 && v < f64::INFINITY {
+            let mut interior = true;
+            for (cell, x) in cache.cells.iter_mut().zip(c) {
+                let located = CellPoint::locate(grid, x);
+                interior &= located.all_nodes_inside(grid);
+                *cell = located.cell;
             }
             cache.weight = w;
-            cache.gradient_weight = wg;
-            cache.linear_fallback = false;
+            cache.gradient_weight = [wg[0], wg[1]];
+            cache.layout = if interior { CornerLayout::Interior } else { CornerLayout::Edge };
         }
     }
 
     #[inline(always)]
-    fn expand(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain, _: bool, out: &mut Stencil) {
-        out.clear();
-        if cache.linear_fallback {
-            out.set_box_of_cell(grid, &CellPoint::locate(grid, domain.position));
-            bilinear_nodes(grid, domain.position, |node, s, g| out.push(node, s, g));
-            return;
-        }
-        out.set_box_of_cell(grid, &cache.corners[0]);
-        for corner in &cache.corners[1..] {
-            out.grow_box_to_cell(grid, corner);
-        }
+    fn visit_entries(
+        grid: &GridGeometry,
+        cache: &Cpdi2Cache,
+        domain: &ParticleDomain,
+        axisymmetric: bool,
+        mut visit: impl FnMut(usize, f64, [f64; 2]),
+    ) {
+        let corners = match (cache.layout, domain.corners) {
+            (CornerLayout::LinearFallback, _) | (_, None) => return bilinear_nodes(grid, domain.position, visit),
+            (_, Some(corners)) => stencil_corners(corners, axisymmetric),
+        };
+        let [g1, g2] = cache.gradient_weight;
+        let gradient_weight = [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]];
         for k in 0..4 {
-            let (wk, gk) = (cache.weight[k], cache.gradient_weight[k]);
-            cache.corners[k].visit_nodes(grid, |node, n, _| out.push(node, wk * n, [gk[0] * n, gk[1] * n]));
+            let (wk, gk) = (cache.weight[k], gradient_weight[k]);
+            let point = CellPoint::in_cell(grid, corners[k], cache.cells[k]);
+            let corner_entry = |node, n: f64, _| visit(node, wk * n, [gk[0] * n, gk[1] * n]);
+            if cache.layout == CornerLayout::Interior {
+                point.visit_interior_nodes(grid, corner_entry);
+            } else {
+                point.visit_nodes(grid, corner_entry);
+            }
         }
+    }
+
+    #[inline(always)]
+    fn node_box(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain) -> StencilBox {
+        if cache.layout == CornerLayout::LinearFallback || domain.corners.is_none() {
+            return StencilBox::of_cell(grid, CellPoint::locate(grid, domain.position).cell);
+        }
+        if cache.layout == CornerLayout::Interior {
+            // Every corner cell lies inside the grid: no clamping, the box is the cells' range
+            // and one more node.
+            let [c0, c1, c2, c3] = cache.cells;
+            let (i0, i1) = (c0[0].min(c1[0]).min(c2[0]).min(c3[0]), c0[0].max(c1[0]).max(c2[0]).max(c3[0]));
+            let (j0, j1) = (c0[1].min(c1[1]).min(c2[1]).min(c3[1]), c0[1].max(c1[1]).max(c2[1]).max(c3[1]));
+            return StencilBox { columns: [i0 as u32, i1 as u32 + 1], rows: [j0 as u32, j1 as u32 + 1] };
+        }
+        // Unrolled by hand: `array::map` is not always inlined, and this runs once per particle.
+        let of = |k: usize| StencilBox::of_cell(grid, cache.cells[k]);
+        of(0).union(of(1)).union(of(2)).union(of(3))
     }
 
     #[inline(always)]
@@ -124,9 +180,13 @@ impl ShapeFunction for Cpdi2 {
     /// x_c ← x_c + dt Σ_i N_i(x_c) v_i, with the corner first clamped into the grid box (so a
     /// corner that left the grid is brought back and sees the velocity of the edge cell) and
     /// the moved corner clamped into the box again; in axisymmetry also r ≥ 0.
+    ///
+    /// A corner that the clamp leaves bit for bit where the stencil evaluated it (the usual
+    /// case) lies in the cell `cache` located it in, so it is not located again.
     #[inline(always)]
     fn advect_corners(
         grid: &GridGeometry,
+        cache: &Cpdi2Cache,
         nodal_velocity: &[[f64; 2]],
         dt: f64,
         corners: &mut [[f64; 2]; 4],
@@ -134,18 +194,25 @@ impl ShapeFunction for Cpdi2 {
     ) {
         let lo = grid.origin;
         let hi = grid.upper();
-        for c in corners.iter_mut() {
-            let q = [c[0].max(lo[0]).min(hi[0]), c[1].max(lo[1]).min(hi[1])];
+        let located = stencil_corners(corners, axisymmetric);
+        let same = |a: [f64; 2], b: [f64; 2]| a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits();
+        for (k, c) in corners.iter_mut().enumerate() {
+            let q = [clamp_between(c[0], lo[0], hi[0]), clamp_between(c[1], lo[1], hi[1])];
             let mut v = [0.0; 2];
-            bilinear_nodes(grid, q, |node, n, _| {
+            let interpolate = |node: usize, n: f64, _| {
                 let vi = nodal_velocity[node];
                 v[0] += n * vi[0];
                 v[1] += n * vi[1];
-            });
-            c[0] = (q[0] + dt * v[0]).max(lo[0]).min(hi[0]);
-            c[1] = (q[1] + dt * v[1]).max(lo[1]).min(hi[1]);
+            };
+            if cache.layout == CornerLayout::Interior && same(q, located[k]) {
+                CellPoint::in_cell(grid, q, cache.cells[k]).visit_interior_nodes(grid, interpolate);
+            } else {
+                bilinear_nodes(grid, q, interpolate);
+            }
+            c[0] = clamp_between(q[0] + dt * v[0], lo[0], hi[0]);
+            c[1] = clamp_between(q[1] + dt * v[1], lo[1], hi[1]);
             if axisymmetric {
-                c[0] = c[0].max(0.0);
+                c[0] = at_least(c[0], 0.0);
             }
         }
     }
@@ -419,7 +486,7 @@ mod tests {
             };
             for axi in [false, true] {
                 let mut c = c0;
-                Cpdi2::advect_corners(&g, &vel, dt, &mut c, axi);
+                Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, dt, &mut c, axi);
                 for k in 0..4 {
                     assert!((c[k][0] - (c0[k][0] + v[0] * dt)).abs() < 1e-15);
                     assert!((c[k][1] - (c0[k][1] + v[1] * dt)).abs() < 1e-15);
@@ -442,11 +509,39 @@ mod tests {
                 random_convex_quad(&mut rng, ctr, sz)
             };
             let mut c = c0;
-            Cpdi2::advect_corners(&g, &vel, 0.01, &mut c, false);
+            Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, 0.01, &mut c, false);
             for k in 0..4 {
                 let vk = field(c0[k]);
                 assert!((c[k][0] - (c0[k][0] + 0.01 * vk[0])).abs() < 1e-14);
                 assert!((c[k][1] - (c0[k][1] + 0.01 * vk[1])).abs() < 1e-14);
+            }
+        }
+    }
+
+    #[test]
+    fn advect_corners_with_the_step_cache_equals_locating_them_again() {
+        // Quads inside the grid, across its edges and across the axis, in both formulations.
+        let g = grid();
+        let field = |x: [f64; 2]| [0.3 + 2.0 * x[0] - 0.7 * x[1].sin(), -0.1 + 0.4 * x[0] * x[0] + 1.1 * x[1]];
+        let vel: Vec<[f64; 2]> = (0..g.num_nodes()).map(|n| field(g.node_position(n))).collect();
+        let mut rng = Rng(17);
+        for _ in 0..2000 {
+            let c0 = {
+                let ctr = [rng.range(-0.05, 1.05), rng.range(-0.05, 1.05)];
+                let sz = rng.range(0.005, 0.15);
+                random_convex_quad(&mut rng, ctr, sz)
+            };
+            for axi in [false, true] {
+                let p = particle_with_corners(c0);
+                let mut cache = Cpdi2Cache::default();
+                Cpdi2::prepare(&g, &ParticleDomain::of(&p, 0), axi, &mut cache);
+                let (mut a, mut b) = (c0, c0);
+                Cpdi2::advect_corners(&g, &cache, &vel, 0.01, &mut a, axi);
+                Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, 0.01, &mut b, axi);
+                for k in 0..4 {
+                    assert_eq!(a[k][0].to_bits(), b[k][0].to_bits(), "{c0:?}");
+                    assert_eq!(a[k][1].to_bits(), b[k][1].to_bits(), "{c0:?}");
+                }
             }
         }
     }
@@ -457,7 +552,7 @@ mod tests {
         let vel = vec![[-2.0, 3.0]; g.num_nodes()];
         // dt v = (−0.02, 0.03): r = 0.005 → 0 (axis), z = 0.99 → 1 (top of the grid).
         let mut c = [[0.005, 0.95], [0.05, 0.95], [0.05, 0.99], [0.005, 0.99]];
-        Cpdi2::advect_corners(&g, &vel, 0.01, &mut c, true);
+        Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vel, 0.01, &mut c, true);
         assert_eq!(c[0][0], 0.0);
         assert!((c[0][1] - 0.98).abs() < 1e-15);
         assert!((c[1][0] - 0.03).abs() < 1e-15 && (c[1][1] - 0.98).abs() < 1e-15);
@@ -466,12 +561,12 @@ mod tests {
         // In axisymmetry the axis clamp holds even when the grid starts left of r = 0.
         let g2 = GridGeometry::new([-0.2, 0.0], [1.2, 1.0], 0.1);
         let mut c = [[0.005, 0.5], [0.05, 0.5], [0.05, 0.6], [0.005, 0.6]];
-        Cpdi2::advect_corners(&g2, &vec![[-2.0, 0.0]; g2.num_nodes()], 0.01, &mut c, true);
+        Cpdi2::advect_corners(&g2, &Cpdi2Cache::default(), &vec![[-2.0, 0.0]; g2.num_nodes()], 0.01, &mut c, true);
         assert_eq!(c[0][0], 0.0);
         assert!((c[1][0] - 0.03).abs() < 1e-15);
         // A corner already outside the grid is brought back into the box.
         let mut c = [[-0.2, 0.5], [1.3, 0.5], [0.5, 1.4], [0.5, -0.1]];
-        Cpdi2::advect_corners(&g, &vec![[0.0; 2]; g.num_nodes()], 0.01, &mut c, false);
+        Cpdi2::advect_corners(&g, &Cpdi2Cache::default(), &vec![[0.0; 2]; g.num_nodes()], 0.01, &mut c, false);
         assert_eq!(c, [[0.0, 0.5], [1.0, 0.5], [0.5, 1.0], [0.5, 0.0]]);
     }
 

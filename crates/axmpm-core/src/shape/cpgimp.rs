@@ -18,8 +18,10 @@
 //! shrunk to min(l_r, R_p − origin_r) after the update and the cap, keeping the domain
 //! centred; nodes outside the grid are dropped.
 
-use super::ugimp::{gimp_axes, gimp_tensor, GimpCache};
-use super::{ParticleDomain, ShapeFunction, Stencil};
+use super::ugimp::{gimp_axes, gimp_box, gimp_entries, GimpCache};
+use super::{ParticleDomain, ShapeFunction, StencilBox};
+#[cfg(test)]
+use super::Stencil;
 use crate::grid::GridGeometry;
 
 pub struct CpGimp;
@@ -37,8 +39,19 @@ impl ShapeFunction for CpGimp {
     }
 
     #[inline(always)]
-    fn expand(grid: &GridGeometry, cache: &GimpCache, _: &ParticleDomain, _: bool, out: &mut Stencil) {
-        gimp_tensor(grid, cache, out)
+    fn visit_entries(
+        grid: &GridGeometry,
+        cache: &GimpCache,
+        _: &ParticleDomain,
+        _: bool,
+        visit: impl FnMut(usize, f64, [f64; 2]),
+    ) {
+        gimp_entries(grid, cache, visit)
+    }
+
+    #[inline(always)]
+    fn node_box(_: &GridGeometry, cache: &GimpCache, _: &ParticleDomain) -> StencilBox {
+        gimp_box(cache)
     }
 }
 

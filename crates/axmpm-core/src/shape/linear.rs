@@ -3,7 +3,9 @@
 
 #[cfg(doc)]
 use super::bilinear_nodes;
-use super::{fast_floor, ParticleDomain, ShapeFunction, Stencil};
+use super::{fast_floor, ParticleDomain, ShapeFunction, StencilBox};
+#[cfg(test)]
+use super::Stencil;
 use crate::grid::GridGeometry;
 
 pub struct Linear;
@@ -30,7 +32,13 @@ impl ShapeFunction for Linear {
     /// The 4 nodes of the particle's cell, in the order of [`bilinear_nodes`] (row by row),
     /// with the same arithmetic, so the two agree bit for bit for any point inside the grid.
     #[inline(always)]
-    fn expand(grid: &GridGeometry, cache: &LinearCache, _: &ParticleDomain, _: bool, out: &mut Stencil) {
+    fn visit_entries(
+        grid: &GridGeometry,
+        cache: &LinearCache,
+        _: &ParticleDomain,
+        _: bool,
+        mut visit: impl FnMut(usize, f64, [f64; 2]),
+    ) {
         let [ci, cj] = cache.cell;
         let [fx, fy] = cache.fraction;
         let ih = grid.inverse_cell_size;
@@ -39,18 +47,18 @@ impl ShapeFunction for Linear {
         let dx = [-ih, ih];
         let nx = grid.nodes[0];
         let base = cj as usize * nx + ci as usize;
-        let nodes = [base, base + 1, base + nx, base + nx + 1];
+        let nodes = [[base, base + 1], [base + nx, base + nx + 1]];
         for b in 0..2 {
             for a in 0..2 {
-                let e = 2 * b + a;
-                out.node[e] = nodes[e] as u32;
-                out.weight[e] = wx[a] * wy[b];
-                out.gradient[e] = [dx[a] * wy[b], wx[a] * dx[b]];
+                visit(nodes[b][a], wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
             }
         }
-        out.len = 4;
-        out.columns = [ci, ci + 1];
-        out.rows = [cj, cj + 1];
+    }
+
+    #[inline(always)]
+    fn node_box(_: &GridGeometry, cache: &LinearCache, _: &ParticleDomain) -> StencilBox {
+        let [ci, cj] = cache.cell;
+        StencilBox { columns: [ci, ci + 1], rows: [cj, cj + 1] }
     }
 }
 

@@ -2,9 +2,10 @@
 //! grid nodes i (PHYSICS.md §3).
 //!
 //! Each scheme is a zero-sized type implementing [`ShapeFunction`]; the solver is generic over
-//! it, so the inner loops are compiled once per scheme. A scheme writes a [`Stencil`]: a short
-//! list of (node, weight, gradient) entries. Entries may repeat a node (CPDI2 sums corner
-//! contributions); every consumer simply accumulates, so repeats are harmless.
+//! it, so the inner loops are compiled once per scheme. A scheme's stencil is a short list of
+//! (node, weight, gradient) entries, visited one by one ([`ShapeFunction::visit_entries`]) or
+//! written into a [`Stencil`]. Entries may repeat a node (CPDI2 sums corner contributions);
+//! every consumer simply accumulates, so repeats are harmless.
 //!
 //! Truncation rules shared by all schemes:
 //! - nodes outside the grid are dropped (a particle domain reaching past the grid edge loses
@@ -81,21 +82,10 @@ impl Stencil {
         self.node[..n].iter().zip(&self.weight[..n]).zip(&self.gradient[..n]).map(|((&node, &w), &g)| (node as usize, w, g))
     }
 
-    /// Sets the node box to the nodes of the point's cell (those [`CellPoint::visit_nodes`] can
-    /// visit), clamped to the grid.
+    /// The node box of the stencil.
     #[inline(always)]
-    pub fn set_box_of_cell(&mut self, grid: &GridGeometry, point: &CellPoint) {
-        let (i, j) = point.clamped_cell(grid);
-        self.columns = [i, (i + 1).min(grid.cells[0] as u32)];
-        self.rows = [j, (j + 1).min(grid.cells[1] as u32)];
-    }
-
-    /// Grows the node box to contain the nodes of the point's cell.
-    #[inline(always)]
-    pub fn grow_box_to_cell(&mut self, grid: &GridGeometry, point: &CellPoint) {
-        let (i, j) = point.clamped_cell(grid);
-        self.columns = [self.columns[0].min(i), self.columns[1].max((i + 1).min(grid.cells[0] as u32))];
-        self.rows = [self.rows[0].min(j), self.rows[1].max((j + 1).min(grid.cells[1] as u32))];
+    pub fn node_box(&self) -> StencilBox {
+        StencilBox { columns: self.columns, rows: self.rows }
     }
 
     /// Σ_i S_ip, 1 wherever the particle's support lies inside the grid (partition of unity).
@@ -112,6 +102,42 @@ impl Stencil {
         }
         g
     }
+}
+
+/// A box of grid nodes containing every entry of a stencil: node columns
+/// `columns[0] ..= columns[1]` and rows `rows[0] ..= rows[1]`, inside the grid (it may be
+/// larger than the entries need).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StencilBox {
+    pub columns: [u32; 2],
+    pub rows: [u32; 2],
+}
+
+impl StencilBox {
+    /// The nodes of the cell with lower-left node `cell` (those [`CellPoint::visit_nodes`] can
+    /// visit), the cell clamped to the grid.
+    #[inline(always)]
+    pub fn of_cell(grid: &GridGeometry, cell: [i32; 2]) -> Self {
+        let (i, j) = clamped_cell(grid, cell);
+        Self { columns: [i, (i + 1).min(grid.cells[0] as u32)], rows: [j, (j + 1).min(grid.cells[1] as u32)] }
+    }
+
+    /// The smallest box containing both.
+    #[inline(always)]
+    pub fn union(self, other: Self) -> Self {
+        Self {
+            columns: [self.columns[0].min(other.columns[0]), self.columns[1].max(other.columns[1])],
+            rows: [self.rows[0].min(other.rows[0]), self.rows[1].max(other.rows[1])],
+        }
+    }
+}
+
+/// Lower-left node (column, row) of a cell, clamped to the grid's cells.
+#[inline(always)]
+fn clamped_cell(grid: &GridGeometry, cell: [i32; 2]) -> (u32, u32) {
+    let i = cell[0].clamp(0, grid.cells[0] as i32 - 1);
+    let j = cell[1].clamp(0, grid.cells[1] as i32 - 1);
+    (i as u32, j as u32)
 }
 
 /// What a scheme may read of one particle's domain (borrowed from the particle arrays, so
@@ -152,9 +178,32 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// a GIMP or CPDI2 cache is 150–200 bytes, and returning it by value costs a memcpy call).
     fn prepare(grid: &GridGeometry, domain: &ParticleDomain, axisymmetric: bool, cache: &mut Self::Cache);
 
-    /// Writes the stencil from `cache`, made by [`ShapeFunction::prepare`] for the same
-    /// domain at the start of the step (schemes without a cache evaluate `domain`).
-    fn expand(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil);
+    /// Visits the stencil entries (node, S_ip, ∇S_ip) from `cache`, made by
+    /// [`ShapeFunction::prepare`] for the same domain at the start of the step, in a fixed
+    /// order. The solver's loops consume the entries as they are made (the closure is inlined
+    /// into each loop, so a loop that needs no gradient never computes it) instead of writing
+    /// and re-reading a [`Stencil`].
+    fn visit_entries(
+        grid: &GridGeometry,
+        cache: &Self::Cache,
+        domain: &ParticleDomain,
+        axisymmetric: bool,
+        visit: impl FnMut(usize, f64, [f64; 2]),
+    );
+
+    /// A box of grid nodes containing every entry of the stencil from `cache`.
+    fn node_box(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain) -> StencilBox;
+
+    /// Writes the stencil from `cache` (its node box and the entries of
+    /// [`ShapeFunction::visit_entries`], in order).
+    #[inline(always)]
+    fn expand(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
+        out.clear();
+        let b = Self::node_box(grid, cache, domain);
+        out.columns = b.columns;
+        out.rows = b.rows;
+        Self::visit_entries(grid, cache, domain, axisymmetric, |node, w, g| out.push(node, w, g));
+    }
 
     /// Writes S_ip and ∇S_ip of a particle domain into `out` (cleared first).
     /// `axisymmetric` asks for domains truncated at the axis r = 0.
@@ -178,10 +227,13 @@ pub trait ShapeFunction: Send + Sync + 'static {
         None
     }
 
-    /// Moves the domain corners with the nodal velocity field (CPDI2 only).
+    /// Moves the domain corners with the nodal velocity field (CPDI2 only). `cache` is the
+    /// one [`ShapeFunction::prepare`] made for the corners at the start of the step (or a
+    /// default cache, which has nothing to reuse).
     #[inline(always)]
     fn advect_corners(
         _grid: &GridGeometry,
+        _cache: &Self::Cache,
         _nodal_velocity: &[[f64; 2]],
         _dt: f64,
         _corners: &mut [[f64; 2]; 4],
@@ -232,26 +284,54 @@ impl CellPoint {
         Self { cell: [clamp(ci, grid.nodes[0]), clamp(cj, grid.nodes[1])], fraction: [l[0] - ci, l[1] - cj] }
     }
 
-    /// Visits the nodes of the cell inside the grid, row by row: (node, weight, gradient).
+    /// A point known to lie in the cell with lower-left node `cell` (one [`CellPoint::locate`]
+    /// gave): the same fraction, bit for bit, without locating it again. (Where `locate`
+    /// clamped the cell, every node of the cell is off the grid and the fraction is never used.)
     #[inline(always)]
-    pub fn visit_nodes(&self, grid: &GridGeometry, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+    pub fn in_cell(grid: &GridGeometry, x: [f64; 2], cell: [i32; 2]) -> Self {
+        let l = grid.local(x);
+        Self { cell, fraction: [l[0] - cell[0] as f64, l[1] - cell[1] as f64] }
+    }
+
+    /// Whether all 4 nodes of the cell are inside the grid.
+    #[inline(always)]
+    pub fn all_nodes_inside(&self, grid: &GridGeometry) -> bool {
+        let [ci, cj] = self.cell;
+        ci >= 0 && cj >= 0 && (ci as usize) + 1 < grid.nodes[0] && (cj as usize) + 1 < grid.nodes[1]
+    }
+
+    /// [`CellPoint::visit_nodes`] for a cell whose 4 nodes are all inside the grid
+    /// ([`CellPoint::all_nodes_inside`]): no test per node, same entries in the same order.
+    #[inline(always)]
+    pub fn visit_interior_nodes(&self, grid: &GridGeometry, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+        debug_assert!(self.all_nodes_inside(grid));
         let [fx, fy] = self.fraction;
         let ih = grid.inverse_cell_size;
         let wx = [1.0 - fx, fx];
         let wy = [1.0 - fy, fy];
         let dx = [-ih, ih];
-        let [ci, cj] = self.cell;
-        if ci >= 0 && cj >= 0 && (ci as usize) + 1 < grid.nodes[0] && (cj as usize) + 1 < grid.nodes[1] {
-            // The usual case, all 4 nodes in the grid: no test per node (same entries, same order).
-            let base = grid.node_index(ci as usize, cj as usize);
-            let nodes = [[base, base + 1], [base + grid.nodes[0], base + grid.nodes[0] + 1]];
-            for b in 0..2 {
-                for a in 0..2 {
-                    visit(nodes[b][a], wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
-                }
+        let base = grid.node_index(self.cell[0] as usize, self.cell[1] as usize);
+        let nodes = [[base, base + 1], [base + grid.nodes[0], base + grid.nodes[0] + 1]];
+        for b in 0..2 {
+            for a in 0..2 {
+                visit(nodes[b][a], wx[a] * wy[b], [dx[a] * wy[b], wx[a] * dx[b]]);
             }
+        }
+    }
+
+    /// Visits the nodes of the cell inside the grid, row by row: (node, weight, gradient).
+    #[inline(always)]
+    pub fn visit_nodes(&self, grid: &GridGeometry, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+        if self.all_nodes_inside(grid) {
+            // The usual case: no test per node.
+            self.visit_interior_nodes(grid, visit);
             return;
         }
+        let [fx, fy] = self.fraction;
+        let ih = grid.inverse_cell_size;
+        let wx = [1.0 - fx, fx];
+        let wy = [1.0 - fy, fy];
+        let dx = [-ih, ih];
         for b in 0..2 {
             let j = self.cell[1] as i64 + b as i64;
             if j < 0 || j >= grid.nodes[1] as i64 {
@@ -267,13 +347,28 @@ impl CellPoint {
             }
         }
     }
+}
 
-    /// Lower-left node (column, row) of the cell, clamped to the grid's cells.
-    #[inline(always)]
-    fn clamped_cell(&self, grid: &GridGeometry) -> (u32, u32) {
-        let i = self.cell[0].clamp(0, grid.cells[0] as i32 - 1);
-        let j = self.cell[1].clamp(0, grid.cells[1] as i32 - 1);
-        (i as u32, j as u32)
+/// `x.max(lo)` (a NaN gives `lo`), bit for bit, testing the usual case `x > lo` first, where
+/// the result is `x` itself: a compare and a predictable branch instead of the NaN handling of
+/// `f64::max` on the baseline x86-64 target (about six instructions).
+#[inline(always)]
+pub fn at_least(x: f64, lo: f64) -> f64 {
+    if x > lo {
+        x
+    } else {
+        x.max(lo)
+    }
+}
+
+/// `x.max(lo).min(hi)` (a NaN gives `lo`), bit for bit, testing the usual case `lo < x < hi`
+/// first (see [`at_least`]).
+#[inline(always)]
+pub fn clamp_between(x: f64, lo: f64, hi: f64) -> f64 {
+    if lo < x && x < hi {
+        x
+    } else {
+        x.max(lo).min(hi)
     }
 }
 

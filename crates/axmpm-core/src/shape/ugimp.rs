@@ -18,7 +18,9 @@
 
 #[cfg(doc)]
 use super::gimp_weight;
-use super::{fast_floor, ParticleDomain, ShapeFunction, Stencil};
+use super::{fast_floor, ParticleDomain, ShapeFunction, StencilBox};
+#[cfg(test)]
+use super::Stencil;
 use crate::grid::GridGeometry;
 
 pub struct UGimp;
@@ -34,8 +36,19 @@ impl ShapeFunction for UGimp {
     }
 
     #[inline(always)]
-    fn expand(grid: &GridGeometry, cache: &GimpCache, _: &ParticleDomain, _: bool, out: &mut Stencil) {
-        gimp_tensor(grid, cache, out)
+    fn visit_entries(
+        grid: &GridGeometry,
+        cache: &GimpCache,
+        _: &ParticleDomain,
+        _: bool,
+        visit: impl FnMut(usize, f64, [f64; 2]),
+    ) {
+        gimp_entries(grid, cache, visit)
+    }
+
+    #[inline(always)]
+    fn node_box(_: &GridGeometry, cache: &GimpCache, _: &ParticleDomain) -> StencilBox {
+        gimp_box(cache)
     }
 }
 
@@ -148,23 +161,30 @@ pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisym
     axis_weights(l[1], lam[1], grid.nodes[1], ih, &mut out[1]);
 }
 
-/// The 2D stencil as the tensor product of the 1D weights: S = S_x S_y,
-/// ∇S = (S_x' S_y, S_x S_y').
+/// The 2D stencil entries as the tensor product of the 1D weights: S = S_x S_y,
+/// ∇S = (S_x' S_y, S_x S_y'), row by row.
 #[inline(always)]
-pub(crate) fn gimp_tensor(grid: &GridGeometry, axes: &GimpCache, out: &mut Stencil) {
-    out.clear();
+pub(crate) fn gimp_entries(grid: &GridGeometry, axes: &GimpCache, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+    let [ax, ay] = axes;
+    for b in 0..(ay.len as usize).min(4) {
+        let row = (ay.first as usize + b) * grid.nodes[0];
+        let (wy, dy) = (ay.weight[b], ay.derivative[b]);
+        for a in 0..(ax.len as usize).min(4) {
+            let (wx, dx) = (ax.weight[a], ax.derivative[a]);
+            visit(row + ax.first as usize + a, wx * wy, [dx * wy, wx * dy]);
+        }
+    }
+}
+
+/// The node box of the 2D stencil: the 1D node ranges of both directions.
+#[inline(always)]
+pub(crate) fn gimp_box(axes: &GimpCache) -> StencilBox {
     let [ax, ay] = axes;
     // An axis keeps at least one node for a particle inside the grid; `max(1)` only guards
     // the box arithmetic.
-    out.columns = [ax.first, ax.first + (ax.len.max(1) - 1) as u32];
-    out.rows = [ay.first, ay.first + (ay.len.max(1) - 1) as u32];
-    for b in 0..ay.len as usize {
-        let row = (ay.first as usize + b) * grid.nodes[0];
-        let (wy, dy) = (ay.weight[b], ay.derivative[b]);
-        for a in 0..ax.len as usize {
-            let (wx, dx) = (ax.weight[a], ax.derivative[a]);
-            out.push(row + ax.first as usize + a, wx * wy, [dx * wy, wx * dy]);
-        }
+    StencilBox {
+        columns: [ax.first, ax.first + (ax.len.max(1) - 1) as u32],
+        rows: [ay.first, ay.first + (ay.len.max(1) - 1) as u32],
     }
 }
 
@@ -173,7 +193,10 @@ pub(crate) fn gimp_tensor(grid: &GridGeometry, axes: &GimpCache, out: &mut Stenc
 pub(crate) fn gimp_stencil(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisymmetric: bool, out: &mut Stencil) {
     let mut axes = GimpCache::default();
     gimp_axes(grid, x, half, axisymmetric, &mut axes);
-    gimp_tensor(grid, &axes, out)
+    out.clear();
+    let b = gimp_box(&axes);
+    (out.columns, out.rows) = (b.columns, b.rows);
+    gimp_entries(grid, &axes, |node, w, g| out.push(node, w, g));
 }
 
 #[cfg(test)]
