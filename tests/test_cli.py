@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import EXAMPLES, TINY_TOML, run_cli
+from conftest import EXAMPLES, SETTLED_STOP, TINY_TOML, run_cli, settling_block
 
 
 def assert_input_error(result: subprocess.CompletedProcess[str], *keys: str) -> None:
@@ -215,16 +215,7 @@ def test_run_stops_once_at_rest(tmp_path):
     end_time; with stop_at_rest the run ends there, status completed."""
     import axmpm
 
-    scenario = {
-        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": 50.0,
-                       "output_interval": 0.25, "gravity": [0.0, -10.0], "damping": 0.5,
-                       "stop_at_rest": 1e-4, "stop_at_rest_after": 0.5},
-        "grid": {"extent": [0.4, 0.4], "cell_size": 0.05},
-        "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1e5,
-                            "poisson_ratio": 0.3}},
-        "bodies": [{"material": "m", "min": [0.1, 0.0], "max": [0.3, 0.2]}],
-        "boundaries": {"bottom": "fixed"},
-    }
+    scenario = settling_block(end_time=50.0, stop_at_rest=1e-4)
     summary = axmpm.run(scenario, tmp_path / "rest")
     assert summary["status"] == "completed"
     assert summary["stopped_at_rest"] is True
@@ -258,17 +249,7 @@ def test_run_stops_once_settled(tmp_path):
     fixed base once it no longer moves down; without it the run goes to end_time."""
     import axmpm
 
-    scenario = {
-        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": 20.0,
-                       "output_interval": 0.25, "gravity": [0.0, -10.0], "damping": 0.5,
-                       "flip_fraction": 1.0, "stop_when_settled": 1e-4, "settle_window": 1.0,
-                       "stop_at_rest_after": 0.5},
-        "grid": {"extent": [0.4, 0.4], "cell_size": 0.05},
-        "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1e5,
-                            "poisson_ratio": 0.3}},
-        "bodies": [{"material": "m", "min": [0.1, 0.0], "max": [0.3, 0.2]}],
-        "boundaries": {"bottom": "fixed"},
-    }
+    scenario = settling_block(**SETTLED_STOP)
     summary = axmpm.run(scenario, tmp_path / "settled")
     assert summary["status"] == "completed" and summary["stopped_at_rest"] is True
     assert 1.0 <= summary["end_time"] < 20.0  # at least one settle_window of history

@@ -23,7 +23,7 @@ from axmpm.output import CHECKPOINT, HistoryWriter, load_run, read_checkpoint, w
 from axmpm.runner import checkpoint_every, resume, run
 from axmpm.scenario import Scenario, ScenarioError, apply_overrides
 
-from conftest import TINY_TOML
+from conftest import SETTLED_STOP, TINY_TOML, settling_block
 
 STATE = ("x", "v", "stress", "F", "volume", "state")
 
@@ -44,6 +44,30 @@ def assert_same_final_state(a: Path, b: Path) -> None:
     assert ra.last.time == rb.last.time and ra.last.steps == rb.last.steps
     for name in STATE:
         assert np.array_equal(getattr(ra.last, name), getattr(rb.last, name)), name
+
+
+def run_interrupted(monkeypatch: pytest.MonkeyPatch, data: dict, out: Path, after_records: int) -> None:
+    """Run ``data`` into ``out`` and send SIGINT after its ``after_records``-th output (the
+    first is t = 0): the run stops cleanly with status interrupted (KeyboardInterrupt)."""
+    original = runner._Driver.record
+    calls = {"n": 0}
+
+    def record(self):
+        original(self)
+        calls["n"] += 1
+        if calls["n"] == after_records:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(runner._Driver, "record", record)
+    # A process started in the background by a non-interactive shell (as CI may be) inherits
+    # SIGINT ignored; restore Python's own handler, as an interactive session has it.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            run(data, out, threads=1)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        monkeypatch.setattr(runner._Driver, "record", original)
 
 
 # --------------------------------------------------------------------------- bad input → exit 2
@@ -307,26 +331,8 @@ def test_interrupt_in_process_then_resume(monkeypatch, tmp_path: Path) -> None:
     full = tmp_path / "full"
     run(base(), full, threads=1)
 
-    original = runner._Driver.record
-    calls = {"n": 0}
-
-    def record(self):
-        original(self)
-        calls["n"] += 1
-        if calls["n"] == 2:  # after the frame at t = 0.025
-            os.kill(os.getpid(), signal.SIGINT)
-
-    monkeypatch.setattr(runner._Driver, "record", record)
-    # A process started in the background by a non-interactive shell (as CI may be) inherits
-    # SIGINT ignored; restore Python's own handler, as an interactive session has it.
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     out = tmp_path / "cut"
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            run(base(), out, threads=1)
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    monkeypatch.setattr(runner._Driver, "record", original)
+    run_interrupted(monkeypatch, base(), out, after_records=2)  # after the frame at t = 0.025
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted" and summary["checkpoint"]["time"] == 0.025
     assert read_checkpoint(out).time == 0.025 and len(load_run(out).frames) == 2
@@ -487,39 +493,12 @@ def test_settled_stop_survives_resume(monkeypatch, tmp_path: Path) -> None:
     """stop_when_settled reads the work of gravity over earlier output times from the history,
     so a run interrupted before it settles and resumed stops at the same output time, with
     the same final state, as one that ran through."""
-    data = {
-        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": 20.0,
-                       "output_interval": 0.25, "gravity": [0.0, -10.0], "damping": 0.5,
-                       "flip_fraction": 1.0, "stop_when_settled": 1e-4, "settle_window": 1.0,
-                       "stop_at_rest_after": 0.5},
-        "grid": {"extent": [0.4, 0.4], "cell_size": 0.05},
-        "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1e5,
-                            "poisson_ratio": 0.3}},
-        "bodies": [{"material": "m", "min": [0.1, 0.0], "max": [0.3, 0.2]}],
-        "boundaries": {"bottom": "fixed"},
-    }
+    data = settling_block(**SETTLED_STOP)
     full = tmp_path / "full"
     done = run(data, full, threads=1)
     assert done["stopped_at_rest"] is True and done["end_time"] >= 1.0
-
-    original = runner._Driver.record
-    calls = {"n": 0}
-
-    def record(self):
-        original(self)
-        calls["n"] += 1
-        if calls["n"] == 3:  # after the frame at t = 0.5, before any window has passed
-            os.kill(os.getpid(), signal.SIGINT)
-
-    monkeypatch.setattr(runner._Driver, "record", record)
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     out = tmp_path / "cut"
-    try:
-        with pytest.raises(KeyboardInterrupt):
-            run(data, out, threads=1)
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    monkeypatch.setattr(runner._Driver, "record", original)
+    run_interrupted(monkeypatch, data, out, after_records=3)  # t = 0.5, before a window has passed
     resumed = resume(out, threads=1)
     assert resumed["stopped_at_rest"] is True
     assert resumed["end_time"] == done["end_time"] and resumed["steps"] == done["steps"]
