@@ -223,12 +223,16 @@ class HistoryWriter:
         self.path = path
         self.columns: list[str] | None = None
         self.lines: list[str] = []
+        #: The values of the rows so far (one list per line after the header), for :meth:`series`.
+        self.rows: list[list[float]] = []
 
     def append(self, row: dict[str, float]) -> None:
         if self.columns is None:
             self.columns = list(row)
             self.lines = [_csv_line(self.columns)]
-        self.lines.append(_csv_line([repr(float(row.get(c, float("nan")))) for c in self.columns]))
+        values = [float(row.get(c, float("nan"))) for c in self.columns]
+        self.rows.append(values)
+        self.lines.append(_csv_line([repr(v) for v in values]))
         write_text(self.path, "".join(self.lines))
 
     def series(self, column: str) -> list[tuple[float, float]]:
@@ -236,14 +240,7 @@ class HistoryWriter:
         if self.columns is None or column not in self.columns or "time" not in self.columns:
             return []
         t, c = self.columns.index("time"), self.columns.index(column)
-        out = []
-        for line in self.lines[1:]:
-            fields = next(csv.reader([line]))
-            try:
-                out.append((float(fields[t]), float(fields[c])))
-            except (ValueError, IndexError):
-                continue
-        return out
+        return [(r[t], r[c]) for r in self.rows]
 
     @classmethod
     def resume(cls, path: Path, until_time: float) -> "HistoryWriter":
@@ -270,8 +267,16 @@ class HistoryWriter:
             except ValueError:
                 continue
             writer.lines.append(_csv_line(r))
+            writer.rows.append([_float_or_nan(v) for v in r])
         write_text(path, "".join(writer.lines))
         return writer
+
+
+def _float_or_nan(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        return float("nan")
 
 
 def _csv_line(values: Sequence[str]) -> str:
