@@ -162,7 +162,7 @@ def column_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
 
     import numpy as np
 
-    from ...output import load_run
+    from ...run.output import load_run
     from .scenario import column_errors, column_geometry
 
     out = dict(EMPTY_METRICS)
@@ -199,7 +199,7 @@ def case_passes(record: dict[str, Any]) -> bool:
 def add_twin_differences(cases: list[dict[str, Any]], out: str | Path) -> None:
     """Set ``plane_strain_difference`` of every completed axisymmetric run whose plane-strain
     twin completed: relative L2 difference of the vertical stress, particle by particle."""
-    from ...output import load_run
+    from ...run.output import load_run
     from .scenario import stress_difference
 
     by_key = {_twin_key(c): c for c in cases if c["layout"] == "plane_strain"}
@@ -336,7 +336,7 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
 
     from . import exact
     from .scenario import column_geometry
-    from ...output import load_run
+    from ...run.output import load_run
     from ...study.plotting import scheme_style
 
     schemes = [s for s in SCHEMES if any(c["scheme"] == s and c["layout"] == layout for c in cases)]

@@ -4,6 +4,7 @@ Layout of a run folder::
 
     scenario.toml            resolved scenario (every default filled in)
     summary.json             status, steps, timings, energies (written at start, updated at end)
+    run.lock                 present while a process writes the folder (axmpm.run.lock)
     history.csv              one row per output time: time, steps, dt, energies
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
@@ -14,11 +15,13 @@ Layout of a run folder::
 Every file is written under a temporary name and moved into place with ``os.replace``, so
 a reader (or a run killed at any moment) never sees a half-written file; a frame is listed
 in ``particles.pvd`` only after both its .npz and .vtu are in place. ``history.csv`` is
-rewritten whole (atomically) at every output time.
+rewritten whole (atomically) at every output time. An error while writing names the file
+(:func:`writing`); the runner then ends the run as failed and keeps what was complete.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
@@ -32,7 +35,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .scenario import Scenario
+from ..scenario import Scenario
 
 __all__ = [
     "FrameData",
@@ -44,6 +47,9 @@ __all__ = [
     "write_frame",
     "write_pvd",
     "write_json",
+    "write_json_robustly",
+    "writing",
+    "output_message",
     "HistoryWriter",
     "Checkpoint",
     "write_checkpoint",
@@ -134,18 +140,64 @@ def _tmp(path: Path) -> Path:
     return path.with_name(f".{path.name}.tmp{os.getpid()}")
 
 
+@contextlib.contextmanager
+def writing(path: str | Path) -> Any:
+    """Any ``OSError`` raised while ``path`` is written (its temporary file included) names
+    ``path``: an error from ``write()`` (e.g. ENOSPC) carries no file name of its own."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is not None and Path(exc.filename) == Path(path):
+            raise
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
+
+
+def output_message(exc: OSError) -> str:
+    """``cannot write FILE: reason`` (the reason alone when the error names no file)."""
+    reason = exc.strerror or str(exc)
+    return f"cannot write {exc.filename}: {reason}" if exc.filename else f"cannot write the output: {reason}"
+
+
 def write_json(path: Path, data: dict[str, Any]) -> None:
     """Write JSON atomically."""
-    tmp = _tmp(path)
-    tmp.write_text(json.dumps(data, indent=2) + "\n")
-    os.replace(tmp, path)
+    write_text(path, json.dumps(data, indent=2) + "\n")
 
 
 def write_text(path: Path, text: str) -> None:
     """Write text atomically."""
     tmp = _tmp(path)
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    with writing(path):
+        try:
+            tmp.write_text(text)
+            os.replace(tmp, path)
+        except OSError:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+            raise
+
+
+def write_json_robustly(path: Path, data: dict[str, Any]) -> str:
+    """Write JSON wherever it still can be written: atomically; else after removing the run's
+    temporary files (which may be what filled the disk); else in place over the old file (its
+    blocks are reused). Returns "" on success, else the reason it could not be written."""
+    text = json.dumps(data, indent=2) + "\n"
+    try:
+        write_text(path, text)
+        return ""
+    except OSError:
+        remove_temporary_files(path.parent)
+    try:
+        write_text(path, text)
+        return ""
+    except OSError:
+        pass
+    try:
+        with open(path, "r+" if path.exists() else "w") as fh:
+            fh.write(text)
+            fh.truncate()
+        return ""
+    except OSError as exc:
+        return output_message(OSError(exc.errno, exc.strerror or str(exc), str(path)))
 
 
 def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -> Path:
@@ -159,15 +211,16 @@ def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -
     npz = frames / f"{stem}.npz"
     tmp_npz = frames / f".{stem}.tmp{os.getpid()}.npz"
     arrays = {name: getattr(frame, name) for name in _ARRAYS}
-    np.savez(
-        tmp_npz,
-        time=np.float64(frame.time),
-        steps=np.int64(frame.steps),
-        state_names=np.array(frame.state_names, dtype=str),
-        formulation=np.array(formulation),
-        **arrays,
-    )
-    os.replace(tmp_npz, npz)
+    with writing(npz):
+        np.savez(
+            tmp_npz,
+            time=np.float64(frame.time),
+            steps=np.int64(frame.steps),
+            state_names=np.array(frame.state_names, dtype=str),
+            formulation=np.array(formulation),
+            **arrays,
+        )
+        os.replace(tmp_npz, npz)
 
     n = frame.x.shape[0]
     zeros = np.zeros(n)
@@ -191,15 +244,16 @@ def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -
         data[f"state_{name}"] = np.ascontiguousarray(frame.state[:, j])
 
     tmp_stem = frames / f".{stem}.tmp{os.getpid()}"
-    pointsToVTK(
-        str(tmp_stem),
-        np.ascontiguousarray(frame.x[:, 0]),
-        np.ascontiguousarray(frame.x[:, 1]),
-        zeros,
-        data=data,  # no fieldData: the time is in particles.pvd, and meshio rejects FieldData
-    )
     vtu = frames / f"{stem}.vtu"
-    os.replace(f"{tmp_stem}.vtu", vtu)
+    with writing(vtu):
+        pointsToVTK(
+            str(tmp_stem),
+            np.ascontiguousarray(frame.x[:, 0]),
+            np.ascontiguousarray(frame.x[:, 1]),
+            zeros,
+            data=data,  # no fieldData: the time is in particles.pvd, and meshio rejects FieldData
+        )
+        os.replace(f"{tmp_stem}.vtu", vtu)
     return vtu
 
 
@@ -208,11 +262,12 @@ def write_pvd(run_dir: Path, entries: Sequence[tuple[float, Path]]) -> None:
     from pyevtk.vtk import VtkGroup
 
     tmp_stem = run_dir / f".particles.tmp{os.getpid()}"
-    group = VtkGroup(str(tmp_stem))
-    for time, vtu in entries:
-        group.addFile(filepath=str(vtu), sim_time=repr(float(time)))
-    group.save()
-    os.replace(f"{tmp_stem}.pvd", run_dir / PVD)
+    with writing(run_dir / PVD):
+        group = VtkGroup(str(tmp_stem))
+        for time, vtu in entries:
+            group.addFile(filepath=str(vtu), sim_time=repr(float(time)))
+        group.save()
+        os.replace(f"{tmp_stem}.pvd", run_dir / PVD)
 
 
 class HistoryWriter:
@@ -330,8 +385,9 @@ def write_checkpoint(run_dir: Path, ckpt: Checkpoint) -> Path:
         "engine_seconds": ckpt.engine_seconds,
         "energies": ckpt.energies,
     }
-    np.savez(tmp, engine=np.frombuffer(bytes(ckpt.engine), dtype=np.uint8), meta=np.array(json.dumps(meta)))
-    os.replace(tmp, path)
+    with writing(path):
+        np.savez(tmp, engine=np.frombuffer(bytes(ckpt.engine), dtype=np.uint8), meta=np.array(json.dumps(meta)))
+        os.replace(tmp, path)
     return path
 
 
