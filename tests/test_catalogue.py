@@ -30,12 +30,27 @@ def test_every_engine_region_shape_has_a_body_schema() -> None:
 
 
 def test_schema_choices_are_the_engines() -> None:
-    fields = Simulation.model_fields
-    assert typing.get_args(fields["formulation"].annotation) == catalogue.formulations()
-    assert typing.get_args(fields["shape_function"].annotation) == catalogue.interpolation_schemes()
-    schema = Scenario.model_json_schema()
-    assert set(schema["$defs"]["Simulation"]["properties"]["shape_function"]["enum"]) == set(
-        catalogue.interpolation_schemes())
+    props = Scenario.model_json_schema()["$defs"]["Simulation"]["properties"]
+    assert props["formulation"]["enum"] == list(catalogue.formulations())
+    assert props["shape_function"]["enum"] == list(catalogue.interpolation_schemes())
+
+
+def test_a_name_the_engine_does_not_know_is_refused_with_the_choices() -> None:
+    from pathlib import Path
+
+    from axmpm.scenario import ScenarioError, apply_overrides, read_toml
+
+    data = read_toml(Path(__file__).resolve().parents[1] / "examples" / "column_collapse_a056.toml")
+    bad = ['simulation.formulation="axisymetric"', "simulation.shape_function=3", 'materials.sand.model="mohr_coulmb"']
+    with pytest.raises(ScenarioError) as err:
+        Scenario.from_dict(apply_overrides(data, bad))
+    assert err.value.render().splitlines() == [
+        "error: simulation.formulation: must be 'plane_strain' or 'axisymmetric' (got 'axisymetric'); "
+        "did you mean 'axisymmetric'?",
+        "error: simulation.shape_function: must be 'linear', 'ugimp', 'cpgimp' or 'cpdi2' (got 3)",
+        "error: materials.sand.model: unknown material model 'mohr_coulmb'; expected one of 'linear_elastic', "
+        "'neo_hookean', 'mohr_coulomb'; did you mean 'mohr_coulomb'?",
+    ]
 
 
 @pytest.mark.parametrize("model,extra,k0", [

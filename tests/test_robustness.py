@@ -340,6 +340,12 @@ def test_interrupt_in_process_then_resume(monkeypatch, tmp_path: Path) -> None:
     assert read_checkpoint(out).time == 0.025 and len(load_run(out).frames) == 2
     assert resume(out, threads=1)["status"] == "completed"
     assert_same_final_state(full, out)
+    # the reactions of the resumed rows too (the engine's accumulators restart at the checkpoint)
+    a, b = load_run(full), load_run(out)
+    assert set(a.reactions) == set(b.reactions) == {"left", "bottom"}
+    for name in a.reactions:
+        np.testing.assert_array_equal(a.reactions[name], b.reactions[name])
+    assert a.summary["reactions"] == b.summary["reactions"]
 
 
 def test_resume_refusals(capsys, tmp_path: Path) -> None:

@@ -160,3 +160,41 @@ def test_summary_is_written_in_place_when_no_new_file_fits(capsys, monkeypatch, 
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "failed" and "history.csv: No space left on device" in summary["message"]
     assert summary["frames"] == 2  # the frame files and pvd entry of t = 0.025 were complete
+
+
+# --------------------------------------------------------------------------- reactions
+
+
+@pytest.mark.parametrize("formulation", ["plane_strain", "axisymmetric"])
+def test_reactions_of_a_block_at_rest_carry_its_weight(tmp_path: Path, formulation: str) -> None:
+    """history.csv has NAME.force_x/force_y per reporting constraint, summary.json the last
+    values, load_run the series: a block at rest on a fixed base presses it with its weight (per
+    metre in plane strain, the whole body in axisymmetry) within 0.5 %; a free face reports
+    nothing."""
+    import math
+
+    import axmpm
+    from conftest import settling_block
+
+    # as the engine's test: no damping, gravity ramped in over 0.3 s, the mean over [0.5, 1.5] s
+    data = settling_block(formulation=formulation, end_time=1.5, output_interval=0.5, damping=0.0,
+                          gravity_ramp_time=0.3)
+    data["boundaries"]["left"] = "roller"
+    if formulation == "axisymmetric":
+        data["bodies"][0].update(min=[0.0, 0.0], max=[0.2, 0.2])
+    out = tmp_path / formulation
+    summary = axmpm.run(data, out, threads=1, progress=False)
+    assert summary["status"] == "completed"
+    run = load_run(out)
+    # free faces report nothing; in axisymmetry the left face is the axis, which reports nothing
+    assert set(run.reactions) == ({"left", "bottom"} if formulation == "plane_strain" else {"bottom"})
+    assert {"bottom.force_x", "bottom.force_y"} <= set(run.history)
+    rho, g = 1000.0, 10.0
+    weight = rho * g * 0.2 * 0.2 * (math.pi * 0.2 if formulation == "axisymmetric" else 1.0)
+    assert run.history["time"].tolist() == [0.0, 0.5, 1.0, 1.5]
+    fx, fy = run.reactions["bottom"][-2:].mean(axis=0)
+    assert fy == pytest.approx(-weight, rel=5e-3)
+    if formulation == "plane_strain":  # (in axisymmetry force_x sums radial forces round the circle)
+        assert abs(fx) < 5e-3 * weight
+    assert run.reactions["bottom"][0].tolist() == [0.0, 0.0]  # t = 0: nothing elapsed
+    assert summary["reactions"]["bottom"] == run.reactions["bottom"][-1].tolist()

@@ -3,9 +3,14 @@
 Layout of a run folder::
 
     scenario.toml            resolved scenario (every default filled in)
-    summary.json             status, steps, timings, energies (written at start, updated at end)
+    summary.json             status, steps, timings, energies, reactions (the last row's
+                             forces, NAME → [fx, fy]) (written at start, updated at end)
     run.lock                 present while a process writes the folder (axmpm.run.lock)
-    history.csv              one row per output time: time, steps, dt, energies
+    history.csv              one row per output time: time, steps, dt, energies, wall_seconds,
+                             and NAME.force_x, NAME.force_y per constraint that reports a
+                             reaction (faces that are not free, walls): the mean force the
+                             material exerted on it since the previous row (N; axisymmetric:
+                             whole body, plane strain: per metre)
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these
@@ -480,7 +485,8 @@ class Frame:
 
 
 class Run:
-    """A run folder read back: ``frames``, ``summary``, ``scenario``, ``history``."""
+    """A run folder read back: ``frames``, ``summary``, ``scenario``, ``history`` (columns of
+    history.csv), ``reactions`` (constraint name → forces at every history row)."""
 
     def __init__(self, path: str | Path):
         self.path = Path(path)
@@ -505,6 +511,15 @@ class Run:
         header, body = rows[0], rows[1:]
         values = np.array([[float(v) for v in r] for r in body], dtype=float).reshape(len(body), len(header))
         return {name: values[:, j] for j, name in enumerate(header)}
+
+    @property
+    def reactions(self) -> dict[str, NDArray[np.float64]]:
+        """Per constraint that reports a reaction, its force at every history row: name → (T, 2)
+        array [force_x, force_y] (N, the mean since the previous row; axisymmetric: whole body)."""
+        history = self.history
+        names = [c[: -len(".force_x")] for c in history if c.endswith(".force_x")]
+        return {n: np.stack([history[f"{n}.force_x"], history[f"{n}.force_y"]], axis=1)
+                for n in names if f"{n}.force_y" in history}
 
     @property
     def times(self) -> NDArray[np.float64]:

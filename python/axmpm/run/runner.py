@@ -244,11 +244,14 @@ class _Driver:
             raise
         self.pvd_entries.append((frame.time, vtu))  # complete: its files and the pvd entry
         energies = {k: float(v) for k, v in sim.energies().items()}
+        reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
         self.history.append(
             {"time": frame.time, "steps": frame.steps, "dt": float(sim.dt),
-             **dict(sorted(energies.items())), "wall_seconds": self.wall()}
+             **dict(sorted(energies.items())), "wall_seconds": self.wall(),
+             **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")}}
         )
         self.summary["energies"] = energies
+        self.summary["reactions"] = reactions
 
     def snapshot(self, k: int) -> None:
         """Keep the engine state of output ``k`` in memory: the last good restart point."""
@@ -447,6 +450,7 @@ def run(
             "engine_seconds": 0.0,
             "particle_steps_per_second": 0.0,
             "energies": {},
+            "reactions": {},
             "frames": 0,
             "message": "",
             "stopped_at_rest": False,

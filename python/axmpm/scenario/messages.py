@@ -96,11 +96,11 @@ def convert_errors(exc: ValidationError) -> list[tuple[str, str]]:
                 msg += did_you_mean(value, choices)
         elif kind == "union_tag_invalid" and loc and loc[0] == "bodies":
             loc = loc + ("shape",)
-            msg = f"unknown shape {ctx.get('tag')!r}; expected one of {ctx.get('expected_tags', '')}"
+            msg = f"unknown shape {ctx.get('tag')!r}; expected one of {', '.join(repr(n) for n in shape_names())}"
             msg += did_you_mean(ctx.get("tag", ""), REGION_SHAPES)
         elif kind == "union_tag_invalid":
             loc = loc + ("model",)
-            expected = ctx.get("expected_tags", "")
+            expected = ", ".join(repr(n) for n in model_names())
             msg = f"unknown material model {ctx.get('tag')!r}; expected one of {expected}"
             msg += did_you_mean(ctx.get("tag", ""), MATERIAL_MODELS)
         elif kind == "union_tag_not_found":

@@ -2,18 +2,36 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import Field
+from pydantic import AfterValidator, Field
+from pydantic_core import PydanticCustomError
 
-from ..catalogue import formulations, interpolation_schemes
+from ..catalogue import catalogue, one_of
 from .fields import NonNegative, Positive, Section, Vec2, bounded
 
-__all__ = ["Simulation", "Grid"]
+__all__ = ["Simulation", "Grid", "engine_choice"]
 
-#: The engine's lists (axmpm.catalogue), as the schema's choices.
-Formulation = Literal[formulations()]  # type: ignore[valid-type]
-InterpolationScheme = Literal[interpolation_schemes()]  # type: ignore[valid-type]
+
+def engine_choice(key: str) -> Any:
+    """A name from the engine's catalogue list ``key`` (:mod:`axmpm.catalogue`), checked when a
+    scenario is validated (the engine is loaded then, not at import) with the message of a
+    literal choice; the JSON Schema lists the names."""
+
+    def check(value: Any) -> str:
+        names = catalogue()[key]
+        if not isinstance(value, str) or value not in names:
+            raise PydanticCustomError("literal_error", "Input should be {expected}", {"expected": one_of(names)})
+        return value
+
+    def schema(s: dict[str, Any]) -> None:
+        s.update(type="string", enum=list(catalogue()[key]))
+
+    return Annotated[Any, AfterValidator(check), Field(json_schema_extra=schema)]
+
+
+Formulation = engine_choice("formulations")
+InterpolationScheme = engine_choice("interpolation_schemes")
 
 
 class Simulation(Section):

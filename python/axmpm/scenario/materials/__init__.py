@@ -77,7 +77,8 @@ for _info in pkgutil.iter_modules(__path__):
 
 
 def model_names() -> list[str]:
-    """The registered models: the engine's catalogue order first, then any others by name."""
+    """The registered models: the engine's catalogue order first, then any others by name
+    (loads the engine: for messages and reports, not at import)."""
     from ...catalogue import material_models
 
     engine = [m for m in material_models() if m in MATERIAL_MODELS]
@@ -85,8 +86,9 @@ def model_names() -> list[str]:
 
 
 def material_type() -> Any:
-    """The type of one ``[materials.NAME]`` table: the registered models discriminated by ``model``."""
-    classes = tuple(MATERIAL_MODELS[name] for name in model_names())
+    """The type of one ``[materials.NAME]`` table: the registered models discriminated by ``model``
+    (in registration order; messages list them in the engine's, :func:`model_names`)."""
+    classes = tuple(MATERIAL_MODELS.values())
     if len(classes) == 1:
         return classes[0]
     return Annotated[Union[classes], Field(discriminator="model")]  # type: ignore[valid-type]

@@ -59,7 +59,8 @@ for _info in pkgutil.iter_modules(__path__):
 
 
 def shape_names() -> list[str]:
-    """The registered shapes: the engine's catalogue order first, then any others by name."""
+    """The registered shapes: the engine's catalogue order first, then any others by name
+    (loads the engine: for messages, not at import)."""
     from ...catalogue import region_shapes
 
     engine = [s for s in region_shapes() if s in REGION_SHAPES]
@@ -75,7 +76,7 @@ def _default_shape(value: Any) -> Any:
 def body_type() -> Any:
     """The type of one ``[[bodies]]`` table: the registered shapes discriminated by ``shape``
     (a rectangle when it is absent)."""
-    classes = tuple(REGION_SHAPES[name] for name in shape_names())
+    classes = tuple(REGION_SHAPES.values())
     if len(classes) == 1:
         return classes[0]
     return Annotated[Union[classes], Field(discriminator="shape"),  # type: ignore[valid-type]
