@@ -348,12 +348,12 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
     from ...run.output import load_run
     from ...study.plotting import scheme_style
 
-    schemes = [s for s in schemes() if any(c["scheme"] == s and c["layout"] == layout for c in cases)]
-    if not schemes:
+    present = [s for s in schemes() if any(c["scheme"] == s and c["layout"] == layout for c in cases)]
+    if not present:
         return None
-    fig, axes = plt.subplots(len(schemes), 2, figsize=(8.0, 2.6 * len(schemes) + 0.6), squeeze=False,
+    fig, axes = plt.subplots(len(present), 2, figsize=(8.0, 2.6 * len(present) + 0.6), squeeze=False,
                              sharey="col")
-    for i, scheme in enumerate(schemes):
+    for i, scheme in enumerate(present):
         for j, mode in enumerate(MODES):
             ax = axes[i][j]
             X = np.linspace(0.0, HEIGHT, 201)
@@ -377,7 +377,7 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
             ax.set_title(f"{style['label']}, {mode}", fontsize=9)
             ax.legend(fontsize=7, loc="best")
             ax.grid(alpha=0.3)
-            if i == len(schemes) - 1:
+            if i == len(present) - 1:
                 ax.set_xlabel("vertical stress σ_zz (kPa)")
             if j == 0:
                 ax.set_ylabel("height above the initial base (m)")
