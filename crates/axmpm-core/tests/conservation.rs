@@ -57,11 +57,14 @@ fn linear_momentum_is_conserved_in_free_flight() {
 fn free_fall_is_exact_under_constant_gravity() {
     // No boundaries: every particle falls with x(t) = x0 + v0 t + g t²/2, with no stress,
     // whatever the FLIP/PIC blend: the FLIP part adds Σ S (v⁺ − v) = g Δt, the PIC part takes
-    // Σ S v⁺ = v + g Δt (the new grid velocity; the old one would lose g Δt per step).
+    // Σ S v⁺ = v + g Δt (the new grid velocity; the old one would lose g Δt per step). Exact up
+    // to the rounding of the stress (≲ 1e-4 Pa) and what it accelerates.
     for flip in [0.0, 0.5, 1.0] {
         for f in ALL_FORMULATIONS {
             for s in ALL_SHAPES {
-                let g = [0.0, -9.81];
+                // Sideways gravity too in plane strain (a uniform radial motion would strain a
+                // body of revolution).
+                let g = if f == FormulationKind::PlaneStrain { [2.0, -9.81] } else { [0.0, -9.81] };
                 let mut cfg = block(f, s, g, [0.0, 1.0]);
                 cfg.simulation.time_step = 1e-3;
                 cfg.simulation.flip_fraction = flip;
@@ -72,13 +75,15 @@ fn free_fall_is_exact_under_constant_gravity() {
                 let p = sim.particles();
                 for i in 0..p.len() {
                     let v = 1.0 + g[1] * t;
-                    assert!((p.velocity[i][1] - v).abs() < 1e-10, "FLIP {flip} {f:?} {s:?}: v = {:?}", p.velocity[i]);
-                    assert!(p.velocity[i][0].abs() < 1e-10, "FLIP {flip} {f:?} {s:?}: v = {:?}", p.velocity[i]);
+                    assert!((p.velocity[i][1] - v).abs() < 1e-8, "FLIP {flip} {f:?} {s:?}: v = {:?}", p.velocity[i]);
+                    assert!((p.velocity[i][0] - g[0] * t).abs() < 1e-8, "FLIP {flip} {f:?} {s:?}: v = {:?}", p.velocity[i]);
                     // Symplectic Euler: x_n = x0 + v0 t + g t (t + dt)/2, exact for this integrator.
                     let y = p.initial_position[i][1] + 1.0 * t + 0.5 * g[1] * t * (t + 1e-3);
-                    assert!((p.position[i][1] - y).abs() < 1e-10, "FLIP {flip} {f:?} {s:?}: y {} vs {}", p.position[i][1], y);
-                    assert!((p.position[i][0] - p.initial_position[i][0]).abs() < 1e-10);
-                    assert!(p.stress[i].iter().all(|s| s.abs() < 1e-6), "{:?}", p.stress[i]);
+                    assert!((p.position[i][1] - y).abs() < 1e-8, "FLIP {flip} {f:?} {s:?}: y {} vs {}", p.position[i][1], y);
+                    let x = p.initial_position[i][0] + 0.5 * g[0] * t * (t + 1e-3);
+                    assert!((p.position[i][0] - x).abs() < 1e-8, "FLIP {flip} {f:?} {s:?}: x {} vs {x}", p.position[i][0]);
+                    // Rounding of the gradient sums only (ρ g H ≈ 6 kPa).
+                    assert!(p.stress[i].iter().all(|s| s.abs() < 1e-4), "{:?}", p.stress[i]);
                 }
             }
         }
