@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import axmpm
-from axmpm.column import column_errors, column_scenario, stress_difference
+from axmpm.cases.column_1d import column_errors, column_scenario, stress_difference
 
 CELLS_ALONG = 32
 CELLS_ACROSS = 2
@@ -30,7 +30,7 @@ CASES = {
 
 
 @pytest.fixture(scope="module")
-def column_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, axmpm.output.Run]:
+def column_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, axmpm.run.output.Run]:
     folder = tmp_path_factory.mktemp("column")
     runs = {}
     for name, kwargs in CASES.items():

@@ -9,14 +9,14 @@ from __future__ import annotations
 import pytest
 
 import axmpm
-from axmpm.column import column_errors, column_scenario, stress_difference
+from axmpm.cases.column_1d import column_errors, column_scenario, stress_difference
 
 CELLS_ALONG = 20
 WIDTH = 2 / CELLS_ALONG
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, str], axmpm.output.Run]:
+def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, str], axmpm.run.output.Run]:
     folder = tmp_path_factory.mktemp("large")
     result = {}
     for mode in ("compression", "tension"):

@@ -1,8 +1,9 @@
 """The ``axmpm`` command.
 
-Exit codes: 0 success; 2 bad input (scenario, overrides, output folder), one
-``error: dotted.key: message`` line per problem on stderr and no traceback; 3 the
-simulation failed (the engine's reason is printed and recorded in summary.json);
+Exit codes: 0 success; 2 bad input (scenario, overrides, output folder, a run folder another
+process is writing), one ``error: dotted.key: message`` line per problem on stderr and no
+traceback; 3 the run failed: the simulation (the engine's reason) or writing its output (the
+file and the reason), printed and recorded in summary.json wherever it can still be written;
 130 interrupted (Ctrl-C).
 """
 
@@ -65,13 +66,13 @@ def _parser() -> argparse.ArgumentParser:
 #: (adds its argparse sub-parser) and ``main(args) -> int`` (runs it, returns the exit code).
 #: Adding a command = one new module + one line here.
 COMMAND_MODULES: tuple[str, ...] = (
-    "axmpm.resume",
-    "axmpm.verify",
+    "axmpm.run.resume",
+    "axmpm.cases.verify",
     "axmpm.bench",
-    "axmpm.sweep",
-    "axmpm.validate",
-    "axmpm.convergence",
-    "axmpm.calibrate",
+    "axmpm.study.sweep",
+    "axmpm.cases.validate",
+    "axmpm.study.convergence",
+    "axmpm.study.calibration",
 )
 
 
@@ -101,13 +102,17 @@ def _report_run(summary: dict, out: Path) -> int:
           f"{summary['particles']} particles, {summary['wall_seconds']:.2f} s wall, "
           f"{summary['particle_steps_per_second']:.3g} particle-steps/s; output in {out}")
     if status == "failed":
-        print(f"error: simulation failed: {summary['message']}", file=sys.stderr)
+        what = {"output": "writing the output failed", "error": "the run failed"}.get(
+            summary.get("failure", ""), "simulation failed")
+        print(f"error: {what}: {summary['message']}", file=sys.stderr)
+        if summary.get("summary_not_written"):
+            print(f"error: summary.json not updated: {summary['summary_not_written']}", file=sys.stderr)
         return EXIT_FAILED
     return EXIT_OK
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .runner import run
+    from .run import run
     from .scenario import Scenario
 
     scenario = Scenario.from_toml(args.scenario, args.overrides)
@@ -124,7 +129,7 @@ def _cmd_schema(args: argparse.Namespace) -> int:
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     if not args.column:
-        from .demo import run_collapse_demo
+        from .cases.column_collapse.demo import run_collapse_demo
 
         print("Granular column collapse, a = 0.56, axisymmetric, Mohr-Coulomb (phi 25, psi 0), "
               "2 mm cells (15 per R_i), cpGIMP, pure FLIP")
@@ -143,7 +148,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
             print(f"figures and summary: {res.figure}, {res.report}")
         return code
 
-    from .demo import run_demo
+    from .cases.column_1d.demo import run_demo
 
     print("1D column under self-weight, compression, rho0 g H / E = 0.01, axisymmetric, linear MPM")
     result = run_demo(args.out, overwrite=args.overwrite, threads=args.threads, progress=args.progress)
