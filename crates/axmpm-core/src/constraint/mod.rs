@@ -6,8 +6,12 @@
 //! (`record = true`: the correction of v⁺ is the physical one, and the momentum it removes
 //! is the impulse the material exerts on the constraint) and, with MUSL, to the re-mapped
 //! velocities. Each constraint that reports a reaction accumulates that impulse,
-//! Σ_nodes m_i (v_before − v_after) per radian or per metre, until [`Constraint::take_impulse`],
-//! and, for the energy budget (issue 15), the work that impulse does against the material,
+//! Σ_nodes m_i (v_before − v_after) per radian or per metre, until [`Constraint::take_impulse`].
+//! With PIC velocities this is exactly the momentum the particles lose to the constraint; with
+//! FLIP the particles also keep what the start-of-step correction removed from the grid, so
+//! the two agree only on average (within 0.05 % for a body at rest with FLIP 0.99,
+//! tests/reactions.rs; pure FLIP can keep a biased velocity pattern at a wall).
+//! For the energy budget each constraint also accumulates the work that impulse does against the material,
 //! Σ_nodes (J_i − m_i δ_i) · v⁺_i,after ([`Constraint::dissipated_energy`], accumulated over the whole run,
 //! split into the normal and the tangential component): the impulse times the velocity the
 //! node then moves with (the particles move with v⁺); m_i δ_i is the momentum the same
@@ -24,7 +28,7 @@
 //! the base that pure FLIP particles keep at rest (the start-of-step correction, which they
 //! never see), and grew without bound in a deposit at rest.
 //!
-//! Node conditions of faces and walls (docs/physics.md; Bardenhagen et al. 2001 for friction):
+//! Node conditions of faces and walls (docs/physics.md §1, §8; Bardenhagen et al. 2001 for friction):
 //! - `roller`: normal velocity zero (bilateral), tangential free;
 //! - `fixed`: both components zero;
 //! - `friction`: no penetration (unilateral) with Coulomb friction: when the node moves into
