@@ -1529,7 +1529,7 @@ mod tests {
             // σ1, σ3 in plane, σ2 out of plane.
             let mut stress = [0.0; 4];
             let mut state = [0.0; 3];
-            m.return_trial(&mut stress, &mut state, [trial[0], trial[2], trial[1], 0.0], false);
+            m.return_trial(&mut stress, &mut state, [trial[0], trial[2], trial[1], 0.0], false, 1.0);
             let dilatancy: f64 = terms.iter().filter(|(_, g)| g[0] == kk(psi) || g[1] == kk(psi)).map(|(x, _)| x).sum();
             assert!((state[1] - (rankine + (kk(psi) - 1.0) * dilatancy)).abs() <= 1e-9 * l, "{region:?}: {state:?}");
             assert!((state[2] - rankine).abs() <= 1e-9 * l, "{region:?}: opening {} vs {rankine}", state[2]);
