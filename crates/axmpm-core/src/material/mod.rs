@@ -224,6 +224,6 @@ mod tests {
         assert!(!config.parameters.contains_key("model"));
         let again: MaterialConfig = serde_json::from_str(&serde_json::to_string(&config).unwrap()).unwrap();
         assert_eq!(again.parameters, config.parameters);
-        assert_eq!(build("sand", &config).unwrap().state_names().len(), 3);
+        assert_eq!(build("sand", &config).unwrap().state_names().len(), 4); // plastic shear, plastic volumetric, opening, plastic work
     }
 }
