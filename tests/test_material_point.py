@@ -44,8 +44,8 @@ def test_elastic_steps_equal_linear_elastic():
 def test_returns_pair_and_names():
     out = material_point(mc(), np.zeros((3, 5)), 1e-3)
     stresses, states = out
-    assert stresses.shape == (3, 4) and states.shape == (3, 2)
-    assert out.state_names == ["plastic_shear_strain", "plastic_volumetric_strain"]
+    assert stresses.shape == (3, 4) and states.shape == (3, 3)
+    assert out.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work"]
 
 
 @pytest.mark.parametrize("phi", [20.0, 25.0, 35.0])
@@ -112,7 +112,7 @@ def stretch_then_compress(extra_steps: int = 0) -> np.ndarray:
 def test_recompaction_closes_the_opening_stress_free(psi):
     dt = 1e-4
     on = material_point({**mc(psi=psi), "recompaction": True}, stretch_then_compress(), dt)
-    assert on.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain"]
+    assert on.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain", "plastic_work"]
     opening = on.state("opening_volumetric_strain")
     assert opening[99] == pytest.approx(100 * 1.5 * dt, rel=1e-9)  # all of the stretch opened
     assert np.all(opening >= 0.0)
@@ -120,7 +120,7 @@ def test_recompaction_closes_the_opening_stress_free(psi):
     np.testing.assert_allclose(on.stresses, 0.0, atol=1e-6)  # stress-free all the way
     # Off (the previous behaviour): the compression back builds ~K × 0.015 of pressure.
     off = material_point(mc(psi=psi), stretch_then_compress(), dt)
-    assert off.state_names == ["plastic_shear_strain", "plastic_volumetric_strain"]
+    assert off.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work"]
     assert -off.stresses[-1, :3].mean() > 0.3 * K_BULK * 100 * 1.5 * dt
 
 

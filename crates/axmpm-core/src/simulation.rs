@@ -37,8 +37,33 @@ impl std::error::Error for SimulationFailure {}
 pub struct Energies {
     /// Σ ½ m_p |v_p|².
     pub kinetic_energy: f64,
-    /// Work done by the full gravity on the displacements, Σ m_p g·(x_p − X_p).
+    /// Work done by the full gravity on the displacements, Σ m_p g·(x_p − X_p) (the potential
+    /// energy released).
     pub gravity_work: f64,
+    /// Stored elastic energy Σ V_p W(σ_p), W the isotropic linear elastic complementary
+    /// energy density of each material's E and ν ([`crate::material::complementary_energy`]).
+    pub elastic_energy: f64,
+    /// Plastic (frictional) dissipation Σ V0_p w_p, w_p the state `plastic_work` (J per unit
+    /// reference volume, accumulated by the stress returns; 0 for models without it).
+    pub plastic_work: f64,
+    /// Work of the faces' and walls' v⁺ corrections against the material since the start of
+    /// the run, Σ J_i · v⁺_i,after (see [`crate::constraint`]): the normal component (zero for
+    /// roller, friction and fixed walls: impact losses are in the residual) ...
+    pub boundary_normal_dissipation: f64,
+    /// ... and the tangential component (Coulomb friction; roller walls remove none).
+    pub boundary_friction_dissipation: f64,
+}
+
+impl Energies {
+    /// What the scheme lost: gravity_work − (kinetic + elastic + plastic + boundary), J.
+    pub fn residual(&self) -> f64 {
+        self.gravity_work
+            - self.kinetic_energy
+            - self.elastic_energy
+            - self.plastic_work
+            - self.boundary_normal_dissipation
+            - self.boundary_friction_dissipation
+    }
 }
 
 /// Checkpoint contents; everything else is rebuilt from the configuration.
@@ -49,6 +74,10 @@ struct Checkpoint {
     particles: Particles,
     time: f64,
     steps: u64,
+    /// Kinetic energy removed by the constraints so far ([normal, tangential], per radian or
+    /// metre); absent in older checkpoints (then 0).
+    #[serde(default)]
+    boundary_dissipation: [f64; 2],
 }
 
 const CHECKPOINT_FORMAT: u32 = 1;
@@ -348,10 +377,13 @@ impl Simulation {
             .collect()
     }
 
-    /// Kinetic energy and work of gravity, summed in particle order (deterministic).
+    /// The energy budget ([`Energies`]), summed in particle order (deterministic).
     pub fn energies(&self) -> Energies {
         let p = &self.state.particles;
         let g = self.config.simulation.gravity;
+        let materials = &self.state.materials;
+        let work_slot: Vec<Option<usize>> =
+            materials.iter().map(|m| m.state_names().iter().position(|n| *n == "plastic_work")).collect();
         let mut e = Energies::default();
         for i in 0..p.len() {
             let v = p.velocity[i];
@@ -359,10 +391,20 @@ impl Simulation {
             let x = p.position[i];
             let x0 = p.initial_position[i];
             e.gravity_work += p.mass[i] * (g[0] * (x[0] - x0[0]) + g[1] * (x[1] - x0[1]));
+            let m = p.material[i] as usize;
+            e.elastic_energy += p.volume[i] * materials[m].elastic_energy_density(&p.stress[i]);
+            if let Some(k) = work_slot[m] {
+                e.plastic_work += p.initial_volume[i] * p.state[i * p.state_stride + k];
+            }
         }
+        let [normal, tangential] = self.state.constraints.dissipated_energy();
         let total = self.total_factor();
         e.kinetic_energy *= total;
         e.gravity_work *= total;
+        e.elastic_energy *= total;
+        e.plastic_work *= total;
+        e.boundary_normal_dissipation = normal * total;
+        e.boundary_friction_dissipation = tangential * total;
         e
     }
 
@@ -374,6 +416,7 @@ impl Simulation {
             particles: self.state.particles.clone(),
             time: self.state.time,
             steps: self.state.steps,
+            boundary_dissipation: self.state.constraints.dissipated_energy(),
         };
         serde_json::to_vec(&checkpoint).map_err(|e| format!("checkpoint: {e}"))
     }
@@ -384,6 +427,8 @@ impl Simulation {
         if c.format != CHECKPOINT_FORMAT {
             return Err(format!("checkpoint format {} is not supported (expected {CHECKPOINT_FORMAT})", c.format));
         }
-        Self::build(c.config, threads, Some((c.particles, c.time, c.steps)))
+        let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps)))?;
+        sim.state.constraints.restored_dissipation = c.boundary_dissipation;
+        Ok(sim)
     }
 }

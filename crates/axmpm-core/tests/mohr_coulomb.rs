@@ -39,7 +39,7 @@ fn a_confined_mohr_coulomb_column_keeps_its_geostatic_stress() {
             let mut sim = Simulation::new(sand_column(formulation, inertial), 1).unwrap();
             let names = sim.state_names().to_vec();
             assert_eq!(&names[..2], ["plastic_shear_strain", "plastic_volumetric_strain"]);
-            assert_eq!(names.len(), if inertial { 3 } else { 2 });
+            assert_eq!(names.len(), if inertial { 4 } else { 3 }); // + plastic_work (+ inertial_number)
             // Mass ρ A per metre, ρ ∫ r dA per radian.
             let mass: f64 = sim.particles().mass.iter().sum();
             let expect = match formulation {

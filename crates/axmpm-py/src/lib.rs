@@ -140,12 +140,20 @@ impl PySimulation {
         let k = self.inner.state_names().len();
         self.inner.state_table().into_pyarray(py).reshape([n, k])
     }
-    /// {"kinetic_energy": J, "gravity_work": J} for the whole body (axisymmetric: × 2π).
+    /// The energy budget of the whole body (axisymmetric: × 2π), J: kinetic_energy,
+    /// gravity_work (potential energy released), elastic_energy, plastic_work,
+    /// boundary_normal_dissipation, boundary_friction_dissipation and energy_residual
+    /// (gravity_work minus all the others: what the scheme lost).
     fn energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let e = self.inner.energies();
         let d = PyDict::new(py);
         d.set_item("kinetic_energy", e.kinetic_energy)?;
         d.set_item("gravity_work", e.gravity_work)?;
+        d.set_item("elastic_energy", e.elastic_energy)?;
+        d.set_item("plastic_work", e.plastic_work)?;
+        d.set_item("boundary_normal_dissipation", e.boundary_normal_dissipation)?;
+        d.set_item("boundary_friction_dissipation", e.boundary_friction_dissipation)?;
+        d.set_item("energy_residual", e.residual())?;
         Ok(d)
     }
     /// Per reporting constraint (faces that are not free: "left", "right", "bottom", "top";

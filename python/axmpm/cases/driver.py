@@ -86,9 +86,11 @@ def build_scenario(case: Case, run: RunSpec, overrides: Sequence[str] = ()) -> A
 
 
 def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
-                overrides: Sequence[str] = ()) -> dict[str, Any]:
+                overrides: Sequence[str] = (), reuse: bool = False) -> dict[str, Any]:
     """Run one run of a case into ``out/cases/<case>/<run>`` and build its record. Never raises for
-    a failing simulation or analysis: the record then has status "failed" and the message."""
+    a failing simulation or analysis: the record then has status "failed" and the message.
+    ``reuse``: a folder that holds a completed run of the very same resolved scenario is not run
+    again (resumable sweeps); the record then has ``reused = True``."""
     from ..run.runner import run as run_scenario
 
     case = get(case_name)
@@ -98,7 +100,12 @@ def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
                               "run_dir": rel, "status": "not run", "message": ""}
     started = time.perf_counter()
     try:
-        summary = run_scenario(build_scenario(case, run, overrides), run_dir, threads=threads, overwrite=True, progress=False)
+        scenario = build_scenario(case, run, overrides)
+        if reuse and _completed(run_dir, scenario):
+            summary = json.loads((run_dir / "summary.json").read_text())
+            record["reused"] = True
+        else:
+            summary = run_scenario(scenario, run_dir, threads=threads, overwrite=True, progress=False)
         record.update(status=summary["status"], message=summary["message"], particles=summary["particles"],
                       steps=summary["steps"],
                       final_kinetic_energy=summary.get("energies", {}).get("kinetic_energy"))
@@ -121,6 +128,13 @@ def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
     record.update(reference=reference, relative_error=relative_errors(metrics, reference),
                   status=status, message=message)
     return record
+
+
+def _completed(run_dir: Path, scenario: Any) -> bool:
+    """``run_dir`` holds a completed run of exactly ``scenario`` (resolved)."""
+    from ..study.sweep import _same_completed_run
+
+    return _same_completed_run(run_dir, scenario.to_dict())
 
 
 def _progress_text(case: Case, record: dict[str, Any]) -> str:
@@ -159,7 +173,9 @@ def run_cases(cases: Sequence[Case], options: argparse.Namespace, out: Path, job
         return float(hook(item[1])) if hook is not None else 1.0
 
     order = sorted(plan, key=cost, reverse=True)  # longest first: better load balance
-    if jobs <= 1 or total <= 1:
+    if any(_resumable(case, options) for case in cases):
+        _run_on_dask(order, options, out, jobs, threads, overrides, finished)
+    elif jobs <= 1 or total <= 1:
         for case, r in order:
             finished(case, execute_run(case.name, r, out, threads, overrides))
     else:
@@ -172,6 +188,55 @@ def run_cases(cases: Sequence[Case], options: argparse.Namespace, out: Path, job
             for future in as_completed(futures):
                 finished(futures[future], future.result())
     return {case.name: Results([done[(case.name, r.name)] for c, r in plan if c is case]) for case in cases}
+
+
+def _resumable(case: Case, options: argparse.Namespace) -> bool:
+    """The case asks for a resumable sweep on Dask (optional hook ``resumable(options)``)."""
+    hook = getattr(case, "resumable", None)
+    return bool(hook(options)) if hook is not None else False
+
+
+def _run_on_dask(order: Sequence[tuple[Case, RunSpec]], options: argparse.Namespace, out: Path, jobs: int,
+                 threads: int, overrides: Sequence[str], finished: Any) -> None:
+    """Resumable sweeps (``axmpm validate --case column_collapse --aspect-ratios ...``): every run is
+    one Dask task (:func:`axmpm.study.sweep.open_client`: ``--scheduler ADDRESS`` or a local
+    cluster of ``--workers`` single-threaded processes); a completed run of the same scenario is
+    reused, a failing or crashing run is a failed record and the others go on."""
+    from ..study.sweep import open_client
+
+    todo = []
+    for case, r in order:  # completed runs: no cluster needed
+        record = execute_run(case.name, r, out, threads, overrides, reuse=True) if _completed_quick(case, r, out, overrides) else None
+        if record is not None:
+            finished(case, record)
+        else:
+            todo.append((case, r))
+    if not todo:
+        return
+    from distributed import as_completed
+
+    workers = getattr(options, "workers", None) or jobs
+    with open_client(scheduler=getattr(options, "scheduler", None), workers=min(int(workers), len(todo)),
+                     threads_per_run=threads) as client:
+        futures = {client.submit(execute_run, case.name, r, str(out), threads, list(overrides), True, pure=False,
+                                 key=f"axmpm-{case.name}-{r.name}-{os.urandom(4).hex()}"): (case, r)
+                   for case, r in todo}
+        for future in as_completed(futures):
+            case, r = futures[future]
+            try:
+                record = future.result()
+            except Exception as exc:  # noqa: BLE001 - KilledWorker (engine crash), lost connection
+                record = {"case": case.name, "run": r.name, "name": r.name, **r.params,
+                          "run_dir": run_dir_of(case, r), "status": "failed",
+                          "message": f"{type(exc).__name__}: {exc}", "wall_seconds": 0.0}
+            finished(case, record)
+
+
+def _completed_quick(case: Case, run: RunSpec, out: Path, overrides: Sequence[str]) -> bool:
+    try:
+        return _completed(Path(out) / run_dir_of(case, run), build_scenario(case, run, overrides))
+    except Exception:  # noqa: BLE001
+        return False
 
 
 # --------------------------------------------------------------------------- command
@@ -194,7 +259,8 @@ def select(kind: str, names: Sequence[str] | None) -> list[Case]:
     return [known[n] for n in dict.fromkeys(wanted)]
 
 
-def _prepare(out: Path, results_file: str, command: str, cases: Sequence[Case], overwrite: bool) -> None:
+def _prepare(out: Path, results_file: str, command: str, cases: Sequence[Case], overwrite: bool,
+             keep: Sequence[str] = ()) -> None:
     """Refuse a file or a non-empty folder that is not an output of this command (unless
     ``overwrite``: it is then emptied); clear the run folders of the selected cases."""
     from ..errors import RunError
@@ -209,7 +275,7 @@ def _prepare(out: Path, results_file: str, command: str, cases: Sequence[Case], 
         resolved = out.resolve()
         if resolved in {Path("/").resolve(), Path.home().resolve()} or Path.cwd().resolve().is_relative_to(resolved):
             raise RunError(f"refusing to clear {out}: it is the root, home or current folder")
-        targets = list(out.iterdir()) if not ours else [out / CASES / c.name for c in cases]
+        targets = list(out.iterdir()) if not ours else [out / CASES / c.name for c in cases if c.name not in keep]
         for child in targets:
             if child.is_dir() and not child.is_symlink():
                 shutil.rmtree(child)
@@ -254,7 +320,8 @@ def verify_or_validate(kind: str, cases: Sequence[Case], options: argparse.Names
 
     command, results_file, _, _ = COMMANDS[kind]
     out = Path(out)
-    _prepare(out, results_file, command, cases, overwrite)
+    _prepare(out, results_file, command, cases, overwrite,
+             keep=[c.name for c in cases if _resumable(c, options)])
     jobs = available_cores() if not jobs else int(jobs)
     started = time.perf_counter()
     by_case = run_cases(cases, options, out, jobs=jobs, threads=threads, log=log)

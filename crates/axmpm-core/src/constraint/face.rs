@@ -12,6 +12,10 @@ pub struct GridFace {
     pub nodes: Vec<u32>,
     pub condition: NodeCondition,
     impulse: [f64; 2],
+    /// Kinetic energy removed since the start ([normal, tangential], J per radian or metre).
+    dissipated: [f64; 2],
+    /// Per node, the correction of the last unrecorded call (start-of-step velocity).
+    start_correction: Vec<[f64; 2]>,
 }
 
 impl GridFace {
@@ -35,6 +39,8 @@ impl GridFace {
             nodes,
             condition: NodeCondition { axis, outward, condition: bc.condition, coefficient: bc.coefficient },
             impulse: [0.0; 2],
+            dissipated: [0.0; 2],
+            start_correction: Vec::new(),
         })
         .collect()
     }
@@ -46,10 +52,22 @@ impl Constraint for GridFace {
     }
 
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
-        self.condition.correct_nodes(&self.nodes, context, velocity, record, &mut self.impulse);
+        self.condition.correct_nodes_with_energy(
+                &self.nodes,
+                context,
+                velocity,
+                record,
+                &mut self.impulse,
+                &mut self.dissipated,
+                &mut self.start_correction,
+            );
     }
 
     fn take_impulse(&mut self) -> [f64; 2] {
         std::mem::take(&mut self.impulse)
+    }
+
+    fn dissipated_energy(&self) -> [f64; 2] {
+        self.dissipated
     }
 }

@@ -14,6 +14,10 @@ pub struct Wall {
     /// Time at which the wall disappears (`f64::INFINITY` = never).
     pub removal_time: f64,
     impulse: [f64; 2],
+    /// Kinetic energy removed since the start ([normal, tangential], J per radian or metre).
+    dissipated: [f64; 2],
+    /// Per node, the correction of the last unrecorded call (start-of-step velocity).
+    start_correction: Vec<[f64; 2]>,
 }
 
 impl Wall {
@@ -53,6 +57,8 @@ impl Wall {
             },
             removal_time: config.removal_time.unwrap_or(f64::INFINITY),
             impulse: [0.0; 2],
+            dissipated: [0.0; 2],
+            start_correction: Vec::new(),
         })
     }
 }
@@ -64,11 +70,23 @@ impl Constraint for Wall {
 
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
         if context.time < self.removal_time {
-            self.condition.correct_nodes(&self.nodes, context, velocity, record, &mut self.impulse);
+            self.condition.correct_nodes_with_energy(
+                &self.nodes,
+                context,
+                velocity,
+                record,
+                &mut self.impulse,
+                &mut self.dissipated,
+                &mut self.start_correction,
+            );
         }
     }
 
     fn take_impulse(&mut self) -> [f64; 2] {
         std::mem::take(&mut self.impulse)
+    }
+
+    fn dissipated_energy(&self) -> [f64; 2] {
+        self.dissipated
     }
 }

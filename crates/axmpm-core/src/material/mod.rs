@@ -53,9 +53,25 @@ pub trait Material: Send + Sync {
 
     /// Updates `stress` (and `state`, of length `state_names().len()`) over one step.
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics);
+
+    /// Stored elastic energy per unit current volume at `stress` (J/m³), for the energy
+    /// budget: the complementary energy of isotropic linear elasticity with the model's E and
+    /// ν ([`complementary_energy`]); 0 for a model without them.
+    fn elastic_energy_density(&self, _stress: &Stress) -> f64 {
+        0.0
+    }
 }
 
 /// Lamé constants (λ, μ) from Young's modulus and Poisson's ratio.
+/// Complementary energy density of isotropic linear elasticity, J/m³:
+/// W = [(1 + ν) σ:σ − ν (tr σ)²] / (2E), σ = [11, 22, 33, 12] (σ:σ counts the shear twice).
+pub fn complementary_energy(stress: &Stress, youngs_modulus: f64, poisson_ratio: f64) -> f64 {
+    let [a, b, c, s] = *stress;
+    let tr = a + b + c;
+    let ss = a * a + b * b + c * c + 2.0 * s * s;
+    ((1.0 + poisson_ratio) * ss - poisson_ratio * tr * tr) / (2.0 * youngs_modulus)
+}
+
 pub fn lame(youngs_modulus: f64, poisson_ratio: f64) -> (f64, f64) {
     let mu = youngs_modulus / (2.0 * (1.0 + poisson_ratio));
     let lambda = youngs_modulus * poisson_ratio / ((1.0 + poisson_ratio) * (1.0 - 2.0 * poisson_ratio));
@@ -208,6 +224,6 @@ mod tests {
         assert!(!config.parameters.contains_key("model"));
         let again: MaterialConfig = serde_json::from_str(&serde_json::to_string(&config).unwrap()).unwrap();
         assert_eq!(again.parameters, config.parameters);
-        assert_eq!(build("sand", &config).unwrap().state_names().len(), 3);
+        assert_eq!(build("sand", &config).unwrap().state_names().len(), 4); // plastic shear, plastic volumetric, opening, plastic work
     }
 }

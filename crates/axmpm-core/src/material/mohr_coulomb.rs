@@ -158,9 +158,11 @@ use crate::particles::Stress;
 /// `recompaction` when a scenario does not set it.
 pub const RECOMPACTION_DEFAULT: bool = false;
 
-/// State slots: accumulated plastic shear strain, plastic volumetric strain, and (with
-/// `recompaction`) the open volume of separated material.
-const STATE_NAMES: [&str; 3] = ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain"];
+/// State slots: accumulated plastic shear strain, plastic volumetric strain, (with
+/// `recompaction`) the open volume of separated material, and the plastic work (last).
+const STATE_NAMES: [&str; 4] =
+    ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain", "plastic_work"];
+const STATE_NAMES_PLAIN: [&str; 3] = ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work"];
 const OPENING: usize = 2;
 
 /// Which part of the yield surface a return went to (sorted principal space).
@@ -459,6 +461,16 @@ impl MohrCoulomb {
         [((1.0 + nu) * d[0] - s) / e, ((1.0 + nu) * d[1] - s) / e, ((1.0 + nu) * d[2] - s) / e]
     }
 
+    /// Index of `plastic_work` in this model's state (the last slot).
+    #[inline(always)]
+    pub fn plastic_work_slot(&self) -> usize {
+        if self.recompaction {
+            3
+        } else {
+            2
+        }
+    }
+
     /// Fast elastic test (most particles, most steps): the test of [`Self::return_trial`] but
     /// with the in-plane radius from `sqrt` instead of `hypot` (a libm call) and a margin
     /// 1e-9 (1 + k)·scale, far larger than the few ulps by which the two evaluations of f and
@@ -521,7 +533,14 @@ impl MohrCoulomb {
     /// Return mapping of the trial stress `tr` in principal space (the exact path).
     /// `separated`: the particle is disconnected (open volume left after the closing, c = 0), so
     /// its stress is the apex, 0, whatever the trial (module doc, "Separated material").
-    fn return_trial(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, separated: bool) {
+    /// `jacobian` = J = V/V0 of the particle (scales the plastic work to reference volume).
+    ///
+    /// The last state slot, `plastic_work` (when the slice holds it), accumulates
+    /// J σ_C : Δε^p, σ_C the returned stress and Δε^p = C⁻¹(σ_B − σ_C) the plastic strain
+    /// increment: the plastic (frictional) dissipation in J per m³ of reference volume, ≥ 0
+    /// for ψ ≤ φ and c ≥ 0 (zero at the apex of c = 0, where σ_C = 0). It is booked only and
+    /// never feeds back into the stress update (issue 15: the energy budget).
+    fn return_trial(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, separated: bool, jacobian: f64) {
         // In-plane principal values a ≥ b and their axes; σ33 is principal.
         let centre = 0.5 * (tr[0] + tr[1]);
         let half = 0.5 * (tr[0] - tr[1]);
@@ -563,6 +582,9 @@ impl MohrCoulomb {
             if self.recompaction && state.len() > OPENING {
                 state[OPENING] += self.opening_increment(region, &ep);
             }
+            if let Some(work) = state.get_mut(self.plastic_work_slot()) {
+                *work += jacobian * dot(&ret, &ep);
+            }
         }
     }
 }
@@ -584,6 +606,9 @@ impl Material for MohrCoulomb {
     fn density(&self) -> f64 {
         self.density
     }
+    fn elastic_energy_density(&self, stress: &Stress) -> f64 {
+        super::complementary_energy(stress, self.youngs_modulus, self.poisson_ratio)
+    }
     fn wave_speed(&self) -> f64 {
         p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
     }
@@ -591,7 +616,7 @@ impl Material for MohrCoulomb {
         if self.recompaction {
             &STATE_NAMES
         } else {
-            &STATE_NAMES[..2]
+            &STATE_NAMES_PLAIN
         }
     }
 
@@ -615,7 +640,7 @@ impl Material for MohrCoulomb {
             *stress = tr;
             return;
         }
-        self.return_trial(stress, state, tr, separated);
+        self.return_trial(stress, state, tr, separated, k.jacobian);
     }
 }
 
@@ -1085,9 +1110,9 @@ mod tests {
                     a = tr;
                     fast += 1;
                 } else {
-                    m.return_trial(&mut a, &mut state_a, tr, false);
+                    m.return_trial(&mut a, &mut state_a, tr, false, 1.0);
                 }
-                m.return_trial(&mut b, &mut state_b, tr, false);
+                m.return_trial(&mut b, &mut state_b, tr, false, 1.0);
                 assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{tr:?}");
                 assert_eq!(state_a.map(f64::to_bits), state_b.map(f64::to_bits));
             }
@@ -1243,13 +1268,16 @@ mod tests {
         let m = from(&base).unwrap();
         assert_eq!(m.model(), "mohr_coulomb");
         assert_eq!(m.recompaction, RECOMPACTION_DEFAULT);
-        let names = ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain"];
-        assert_eq!(m.state_names(), if RECOMPACTION_DEFAULT { &names[..] } else { &names[..2] });
-        for (flag, n) in [(false, 2), (true, 3)] {
+        let plain = ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work"];
+        let names = ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain", "plastic_work"];
+        assert_eq!(m.state_names(), if RECOMPACTION_DEFAULT { &names[..] } else { &plain[..] });
+        for (flag, expected) in [(false, &plain[..]), (true, &names[..])] {
             let mut c = base.clone();
             c.set("recompaction", flag);
             let m = from(&c).unwrap();
-            assert_eq!((m.recompaction, m.state_names()), (flag, &names[..n]));
+            assert_eq!((m.recompaction, m.state_names()), (flag, expected));
+            assert_eq!(m.state_names()[m.plastic_work_slot()], "plastic_work");
+            let n = expected.len();
             assert_eq!(super::super::build("sand", &c).unwrap().state_names().len(), n);
         }
         assert_eq!((m.dilation_angle, m.cohesion, m.tension_cutoff), (0.0, 0.0, 0.0));
@@ -1501,7 +1529,7 @@ mod tests {
             // σ1, σ3 in plane, σ2 out of plane.
             let mut stress = [0.0; 4];
             let mut state = [0.0; 3];
-            m.return_trial(&mut stress, &mut state, [trial[0], trial[2], trial[1], 0.0], false);
+            m.return_trial(&mut stress, &mut state, [trial[0], trial[2], trial[1], 0.0], false, 1.0);
             let dilatancy: f64 = terms.iter().filter(|(_, g)| g[0] == kk(psi) || g[1] == kk(psi)).map(|(x, _)| x).sum();
             assert!((state[1] - (rankine + (kk(psi) - 1.0) * dilatancy)).abs() <= 1e-9 * l, "{region:?}: {state:?}");
             assert!((state[2] - rankine).abs() <= 1e-9 * l, "{region:?}: opening {} vs {rankine}", state[2]);

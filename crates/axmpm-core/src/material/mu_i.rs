@@ -54,9 +54,15 @@ pub const INERTIAL_NUMBER_CAP: f64 = 1.0e6;
 /// I₀ when a scenario does not give one (Jop, Forterre & Pouliquen 2006, glass beads).
 pub const INERTIAL_NUMBER_SCALE_DEFAULT: f64 = 0.279;
 
-const STATE_NAMES: [&str; 3] = ["plastic_shear_strain", "plastic_volumetric_strain", "inertial_number"];
-const STATE_NAMES_RECOMPACTION: [&str; 4] =
-    ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain", "inertial_number"];
+const STATE_NAMES: [&str; 4] =
+    ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work", "inertial_number"];
+const STATE_NAMES_RECOMPACTION: [&str; 5] = [
+    "plastic_shear_strain",
+    "plastic_volumetric_strain",
+    "opening_volumetric_strain",
+    "plastic_work",
+    "inertial_number",
+];
 
 /// Mohr–Coulomb with μ(I) friction (module doc).
 #[derive(Clone, Debug)]
@@ -166,6 +172,9 @@ impl Material for InertialMohrCoulomb {
     fn density(&self) -> f64 {
         self.base.density()
     }
+    fn elastic_energy_density(&self, stress: &Stress) -> f64 {
+        self.base.elastic_energy_density(stress)
+    }
     fn wave_speed(&self) -> f64 {
         self.base.wave_speed()
     }
@@ -252,7 +261,7 @@ mod tests {
         let p = 200.0;
         for gamma in [1e-3, 5.0, 50.0, 500.0] {
             let mut stress = [-p, -p, -p, 0.0];
-            let mut state = [0.0; 3];
+            let mut state = [0.0; 4];
             let dt = 2e-4 / gamma; // total shear strain 0.2 in 1000 steps
             for _ in 0..1000 {
                 m.update_stress(&mut stress, &mut state, &kinematics([0.0, gamma, 0.0, 0.0, 0.0], dt));
@@ -263,7 +272,9 @@ mod tests {
             let i = m.inertial_number(&stress, &d);
             let mu = m.friction(i);
             assert!((radius / centre - mu).abs() < 2e-3 * mu, "γ̇ = {gamma}: R/c = {}, μ(I) = {mu}", radius / centre);
-            assert!((state[2] - i.min(INERTIAL_NUMBER_CAP)).abs() <= 0.05 * i, "stored I {} vs {i}", state[2]);
+            assert!((state[3] - i.min(INERTIAL_NUMBER_CAP)).abs() <= 0.05 * i, "stored I {} vs {i}", state[3]);
+            // Plastic work of steady shear at yield: ≈ τ γ_p = (radius) × (0.2 − elastic), > 0.
+            assert!(state[2] > 0.5 * radius * 0.2 && state[2] < radius * 0.2 * 1.01, "plastic work {}", state[2]);
             if gamma < 0.01 {
                 assert!((mu - m.static_friction).abs() < 1e-4);
             }

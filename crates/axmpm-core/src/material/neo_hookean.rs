@@ -54,6 +54,9 @@ impl Material for NeoHookean {
     fn density(&self) -> f64 {
         self.density
     }
+    fn elastic_energy_density(&self, stress: &Stress) -> f64 {
+        super::complementary_energy(stress, self.youngs_modulus, self.poisson_ratio)
+    }
     fn wave_speed(&self) -> f64 {
         p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
     }

@@ -63,13 +63,16 @@ CONVERGENCE_QUANTITIES: dict[str, tuple[str, Any, Any]] = {
 
 
 def case_scenario(name: str, formulation: str = "axisymmetric", overrides: list[str] | None = None,
-                  **builder: Any) -> Any:
-    """The scenario of a column: :func:`~.scenario.collapse_scenario` + ``--set`` overrides."""
+                  aspect_ratio: float | None = None, **builder: Any) -> Any:
+    """The scenario of a column: :func:`~.scenario.collapse_scenario` + ``--set`` overrides
+    (``aspect_ratio`` given: a sweep column of any a; otherwise one of :data:`CASES`)."""
     from ...scenario import Scenario, apply_overrides
 
-    if name not in CASES:
-        raise KeyError(f"unknown case {name!r}; known: {', '.join(CASES)}")
-    data = collapse_scenario(CASES[name], formulation=formulation, as_dict=True, **builder)
+    if aspect_ratio is None:
+        if name not in CASES:
+            raise KeyError(f"unknown case {name!r}; known: {', '.join(CASES)}")
+        aspect_ratio = CASES[name]
+    data = collapse_scenario(aspect_ratio, formulation=formulation, as_dict=True, **builder)
     if overrides:
         data = apply_overrides(data, overrides)
     return Scenario.from_dict(data, source=f"case {name}")
@@ -115,7 +118,44 @@ def run_specs(cases: list[str], formulation: str = "axisymmetric", overrides: li
 
 def run_scenario(run: RunSpec) -> Any:
     p = run.params
-    return case_scenario(run.name, p.get("formulation", "axisymmetric"), p.get("overrides"), **p.get("builder", {}))
+    a = p["nominal_aspect_ratio"] if p.get("sweep") else None
+    return case_scenario(run.name, p.get("formulation", "axisymmetric"), p.get("overrides"), aspect_ratio=a,
+                         **p.get("builder", {}))
+
+
+#: ``--aspect-ratios`` of the issue-15 sweep (the runs are named ``a<value>``).
+SWEEP_ASPECT_RATIOS = (0.5, 0.8, 1.2, 1.7, 2.5, 4.0, 5.4, 7.0, 10.0)
+#: Default mesh of the sweep: cells per initial radius (R_i / cell_size).
+SWEEP_CELLS_PER_RADIUS = 30
+
+
+def parse_aspect_ratios(text: str) -> list[float]:
+    """``--aspect-ratios``: comma-separated positive numbers (RunError naming the option)."""
+    from ...errors import RunError
+
+    values: list[float] = []
+    for item in (t.strip() for t in str(text).split(",")):
+        if not item:
+            continue
+        try:
+            a = float(item)
+        except ValueError:
+            raise RunError(f"--aspect-ratios: {item!r} is not a number") from None
+        if not (math.isfinite(a) and a > 0.0):
+            raise RunError(f"--aspect-ratios: every aspect ratio must be a positive number (got {item})")
+        values.append(a)
+    if not values:
+        raise RunError("--aspect-ratios: give at least one aspect ratio, e.g. 0.5,0.8,5.4")
+    if len(set(values)) != len(values):
+        raise RunError(f"--aspect-ratios: repeated value in {text}")
+    return sorted(values)
+
+
+def sweep_specs(aspect_ratios: list[float], formulation: str, overrides: list[str],
+                builder: dict[str, Any]) -> list[RunSpec]:
+    """One run ``a<value>`` per aspect ratio (cell size: ``builder['cell_size']``)."""
+    return [RunSpec(f"a{a:g}", {"nominal_aspect_ratio": a, "formulation": formulation, "sweep": True,
+                                "overrides": list(overrides), "builder": dict(builder)}) for a in aspect_ratios]
 
 
 def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dict[str, Any]:
@@ -353,9 +393,45 @@ class ColumnCollapse:
                             help=f"column_collapse: comma-separated columns (default all: {','.join(CASES)})")
         parser.add_argument("--formulation", choices=["axisymmetric", "plane_strain"], default="axisymmetric",
                             help="column_collapse: formulation (default axisymmetric)")
+        parser.add_argument("--aspect-ratios", dest="aspect_ratios", default=None, metavar="A1,A2,...",
+                            help="column_collapse: aspect-ratio sweep (issue 15), one column per a, run on Dask and "
+                            "resumable (completed runs of the same scenario are reused); report with the power-law "
+                            f"fits and the energy budget. E.g. {','.join(f'{a:g}' for a in SWEEP_ASPECT_RATIOS)}")
+        parser.add_argument("--cell-size", dest="cell_size", type=float, default=None, metavar="H",
+                            help="column_collapse: cell size in m (sweep default: R_i/"
+                            f"{SWEEP_CELLS_PER_RADIUS}, i.e. {SWEEP_CELLS_PER_RADIUS} cells per radius)")
+        parser.add_argument("--workers", type=int, default=None, metavar="N",
+                            help="column_collapse sweep: local Dask workers (default: --jobs, one per core)")
+        parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                            help="column_collapse sweep: an existing Dask scheduler (tcp://host:8786)")
+
+    def resumable(self, options: argparse.Namespace) -> bool:
+        """The aspect-ratio sweep runs on Dask and reuses completed runs."""
+        return getattr(options, "aspect_ratios", None) is not None
 
     def runs(self, options: argparse.Namespace) -> list[RunSpec]:
+        from ...errors import RunError
+
         overrides, builder = _options_overrides(options)
+        cell = getattr(options, "cell_size", None)
+        if cell is not None:
+            if not (math.isfinite(cell) and cell > 0.0):
+                raise RunError(f"--cell-size: must be a positive length in m (got {cell})")
+            builder["cell_size"] = cell
+        workers = getattr(options, "workers", None)
+        if workers is not None and workers < 1:
+            raise RunError(f"--workers: must be at least 1 (got {workers})")
+        if workers is not None and getattr(options, "scheduler", None):
+            raise RunError("--workers and --scheduler exclude each other")
+        if self.resumable(options):
+            if getattr(options, "cases", None):
+                raise RunError("--aspect-ratios and --cases exclude each other")
+            if "cell_size" not in builder:
+                from .scenario import DEFAULTS
+
+                builder["cell_size"] = builder.get("radius", DEFAULTS["radius"]) / SWEEP_CELLS_PER_RADIUS
+            return sweep_specs(parse_aspect_ratios(options.aspect_ratios),
+                               getattr(options, "formulation", "axisymmetric"), overrides, builder)
         return run_specs(parse_cases(getattr(options, "cases", None)),
                          getattr(options, "formulation", "axisymmetric"), overrides, builder)
 
@@ -370,7 +446,11 @@ class ColumnCollapse:
         return {"runout_normalised": p.runout, "final_height_normalised": p.height}
 
     def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
-        return case_result(run.name, run_dir, CASES.get(run.name))
+        result = case_result(run.name, run_dir, run.params.get("nominal_aspect_ratio", CASES.get(run.name)))
+        from .energy import energy_shares
+
+        result["energy"] = energy_shares(run_dir)
+        return result
 
     def cost(self, run: RunSpec) -> float:
         return run.params["nominal_aspect_ratio"]  # taller columns take longer
@@ -401,6 +481,11 @@ class ColumnCollapse:
     def report(self, results: list[dict[str, Any]], out: Path) -> str:
         context = getattr(results, "context", {})
         options = argparse.Namespace(**context.get("options", {}))
+        if self.resumable(options):
+            from .sweep_report import sweep_report
+
+            return sweep_report(list(results), Path(out), self.document(results, options),
+                                figures=context.get("figures", True))
         data = {**self.document(results, options), "cases": list(results)}
         return report_text(Path(out), data, figures=context.get("figures", True))
 

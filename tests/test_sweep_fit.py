@@ -1,0 +1,46 @@
+"""Issue 15: the aspect-ratio sweep's fit and its input checks (no simulation)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from axmpm.cases.column_collapse.case import parse_aspect_ratios
+from axmpm.cases.column_collapse.sweep_report import fit_power_law, fit_two_branches, t975
+from axmpm.cli import main
+
+
+def test_power_law_fit_recovers_exact_law_and_interval_contains_truth():
+    a = np.array([1.7, 2.5, 4.0, 5.4, 7.0, 10.0])
+    y = 1.6 * a**0.5
+    f = fit_power_law(a, y)
+    assert f["lambda"] == pytest.approx(1.6, rel=1e-12) and f["beta"] == pytest.approx(0.5, rel=1e-12)
+    rng = np.random.default_rng(3)
+    noisy = y * np.exp(rng.normal(0.0, 0.05, a.size))
+    g = fit_power_law(a, noisy)
+    assert g["beta_ci"][0] < 0.5 < g["beta_ci"][1] and g["lambda_ci"][0] < 1.6 < g["lambda_ci"][1]
+    assert g["beta_ci"][1] - g["beta_ci"][0] > 0  # an interval, not a point
+
+
+def test_two_branch_fit_finds_the_lube_break():
+    a = np.array([0.5, 0.8, 1.2, 1.7, 2.5, 4.0, 5.4, 7.0, 10.0])
+    y = np.where(a <= 1.7, 1.24 * a, 1.6 * np.sqrt(a))
+    f = fit_two_branches(a, y)
+    assert f["below"]["beta"] == pytest.approx(1.0, abs=1e-9)
+    assert f["above"]["beta"] == pytest.approx(0.5, abs=1e-9)
+    assert 1.7 <= f["break"] <= 2.5
+
+
+def test_t_quantiles():
+    assert t975(1) == 12.706 and t975(11) == 2.228 and t975(100) == 1.96
+    assert math.isclose(t975(7), 2.365)
+
+
+@pytest.mark.parametrize("text", ["0.5,-1", "0,1", "a,1", "1,1", "nan"])
+def test_bad_aspect_ratios_exit_2_naming_the_option(text, capsys, tmp_path):
+    assert main(["validate", "--case", "column_collapse", "--aspect-ratios", text, "--out", str(tmp_path / "o")]) == 2
+    assert "--aspect-ratios" in capsys.readouterr().err
+
+
+def test_aspect_ratios_are_sorted():
+    assert parse_aspect_ratios("5.4, 0.5,2") == [0.5, 2.0, 5.4]
