@@ -10,11 +10,13 @@ pub mod linear_elastic;
 pub mod mohr_coulomb;
 pub mod mu_i;
 pub mod neo_hookean;
+pub mod von_mises;
 
 pub use linear_elastic::LinearElastic;
 pub use mohr_coulomb::MohrCoulomb;
 pub use mu_i::InertialMohrCoulomb;
 pub use neo_hookean::NeoHookean;
+pub use von_mises::VonMises;
 
 /// What a material sees of one particle's motion over the step.
 #[derive(Clone, Copy, Debug)]
@@ -88,8 +90,10 @@ pub fn build(name: &str, config: &MaterialConfig) -> Result<Box<dyn Material>, S
                 None => Box::new(base),
             })
         }
+        // J2 plasticity (von_mises.rs); its errors already name `materials.NAME.KEY`.
+        "von_mises" => Ok(Box::new(VonMises::from_config(name, config)?)),
         other => Err(format!(
-            "materials.{name}.model: unknown model '{other}' (known: linear_elastic, neo_hookean, mohr_coulomb)"
+            "materials.{name}.model: unknown model '{other}' (known: linear_elastic, neo_hookean, mohr_coulomb, von_mises)"
         )),
     }
 }
