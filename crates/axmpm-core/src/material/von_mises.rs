@@ -31,8 +31,7 @@
 //!   increment is ΔW_p = J_{n+1} · ½(σ_y(ε̄p_n) + σ_y(ε̄p_{n+1})) · Δε̄p — the mid-point rule,
 //!   exact for a linear σ_y(ε̄p) (∫ σ_y dε̄p = σ_y Δε̄p + ½ H Δε̄p², whatever the step).
 
-use super::{jaumann_rotation, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material};
-use crate::config::MaterialConfig;
+use super::{jaumann_rotation, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
 use crate::particles::Stress;
 
 const STATE_NAMES: [&str; 2] = ["plastic_strain", "plastic_work"];
@@ -60,34 +59,31 @@ impl VonMises {
         }
     }
 
-    /// From a `von_mises` material table: `yield_stress` (> 0) and `hardening_modulus` (≥ 0,
-    /// default 0) besides the elastic keys. Errors name `materials.NAME.KEY`.
-    pub fn from_config(name: &str, c: &MaterialConfig) -> Result<Self, String> {
-        let key = |k: &str| format!("materials.{name}.{k}");
-        let number = |k: &str| -> Result<Option<f64>, String> {
-            match c.extra.get(k) {
-                None | Some(serde_json::Value::Null) => Ok(None),
-                Some(v) => v.as_f64().map(Some).ok_or_else(|| format!("{}: must be a number (got {v})", key(k))),
-            }
-        };
-        let sigma_y = number("yield_stress")?.ok_or_else(|| format!("{}: is required for von_mises", key("yield_stress")))?;
+    /// From a `von_mises` material table: `yield_stress` (> 0, required) and
+    /// `hardening_modulus` (≥ 0, default 0) besides the elastic keys. Errors name
+    /// `materials.NAME.KEY`.
+    pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
+        let sigma_y = p.optional_f64("yield_stress")?.ok_or_else(|| p.error("yield_stress", "is required for von_mises"))?;
         if !(sigma_y > 0.0 && sigma_y.is_finite()) {
-            return Err(format!("{}: must be > 0 Pa (got {sigma_y})", key("yield_stress")));
+            return Err(p.error("yield_stress", format!("must be > 0 Pa (got {sigma_y})")));
         }
-        let h = number("hardening_modulus")?.unwrap_or(0.0);
+        let h = p.f64_or("hardening_modulus", 0.0)?;
         if !(h >= 0.0 && h.is_finite()) {
-            return Err(format!("{}: must be >= 0 Pa (got {h})", key("hardening_modulus")));
+            return Err(p.error("hardening_modulus", format!("must be >= 0 Pa (got {h})")));
         }
-        if !(c.youngs_modulus > 0.0 && c.youngs_modulus.is_finite()) {
-            return Err(format!("{}: must be > 0 Pa (got {})", key("youngs_modulus"), c.youngs_modulus));
+        let youngs_modulus = p.f64("youngs_modulus")?;
+        if !(youngs_modulus > 0.0 && youngs_modulus.is_finite()) {
+            return Err(p.error("youngs_modulus", format!("must be > 0 Pa (got {youngs_modulus})")));
         }
-        if !(c.poisson_ratio > -1.0 && c.poisson_ratio < 0.5) {
-            return Err(format!("{}: must be in (-1, 0.5) (got {})", key("poisson_ratio"), c.poisson_ratio));
+        let poisson_ratio = p.f64("poisson_ratio")?;
+        if !(poisson_ratio > -1.0 && poisson_ratio < 0.5) {
+            return Err(p.error("poisson_ratio", format!("must be in (-1, 0.5) (got {poisson_ratio})")));
         }
-        if !(c.density > 0.0 && c.density.is_finite()) {
-            return Err(format!("{}: must be > 0 kg/m³ (got {})", key("density"), c.density));
+        let density = p.f64("density")?;
+        if !(density > 0.0 && density.is_finite()) {
+            return Err(p.error("density", format!("must be > 0 kg/m³ (got {density})")));
         }
-        Ok(Self::new(c.density, c.youngs_modulus, c.poisson_ratio, sigma_y, h))
+        Ok(Self::new(density, youngs_modulus, poisson_ratio, sigma_y, h))
     }
 
     /// Current yield stress σ_y + H ε̄p.
@@ -123,6 +119,11 @@ impl VonMises {
         stress[3] *= scale;
         increment
     }
+}
+
+/// The registry's builder ([`super::MODELS`]).
+pub fn build(p: &Parameters) -> Result<Box<dyn Material>, String> {
+    Ok(Box::new(VonMises::from_parameters(p)?))
 }
 
 impl Material for VonMises {
@@ -161,6 +162,7 @@ impl Material for VonMises {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::testing::{kinematics as kin, Lcg, MaterialPoint};
 
     // Simo (1992) copper: E = 117 GPa, ν = 0.35, σ_y = 0.4 GPa, H = 0.1 GPa.
     const E: f64 = 117e9;
@@ -170,21 +172,6 @@ mod tests {
 
     fn copper() -> VonMises {
         VonMises::new(8930.0, E, NU, SY, H)
-    }
-
-    fn kin(l: [f64; 5], dt: f64) -> Kinematics {
-        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, dt }
-    }
-
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.next()
-        }
     }
 
     fn bulk_modulus() -> f64 {
@@ -215,8 +202,8 @@ mod tests {
         let mut elastic_steps = 0;
         for _ in 0..2000 {
             // A start state well inside the yield surface, a random step with spin.
-            let s0 = [rng.range(-0.2e9, 0.2e9), rng.range(-0.2e9, 0.2e9), rng.range(-0.2e9, 0.2e9), rng.range(-0.05e9, 0.05e9)];
-            let l = [rng.range(-1e3, 1e3), rng.range(-1e3, 1e3), rng.range(-1e3, 1e3), rng.range(-1e3, 1e3), rng.range(-1e3, 1e3)];
+            let s0 = [rng.uniform(-0.2e9, 0.2e9), rng.uniform(-0.2e9, 0.2e9), rng.uniform(-0.2e9, 0.2e9), rng.uniform(-0.05e9, 0.05e9)];
+            let l = [rng.uniform(-1e3, 1e3), rng.uniform(-1e3, 1e3), rng.uniform(-1e3, 1e3), rng.uniform(-1e3, 1e3), rng.uniform(-1e3, 1e3)];
             let k = kin(l, 1e-7);
             let (mut a, mut b) = (s0, s0);
             let mut state = [0.3, 5e7];
@@ -238,12 +225,12 @@ mod tests {
         let mut rng = Lcg(42);
         let mut plastic = 0;
         for _ in 0..5000 {
-            let ep0 = rng.range(0.0, 2.0);
+            let ep0 = rng.uniform(0.0, 2.0);
             // A start state inside or on the yield surface (scaled random deviator + pressure).
-            let mut s0 = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-0.5, 0.5)];
+            let mut s0 = [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-0.5, 0.5)];
             let q0 = VonMises::equivalent_stress(&s0);
-            let target = vm.flow_stress(ep0) * rng.range(0.0, 1.0).sqrt();
-            let pressure = rng.range(-2e9, 2e9);
+            let target = vm.flow_stress(ep0) * rng.uniform(0.0, 1.0).sqrt();
+            let pressure = rng.uniform(-2e9, 2e9);
             for c in 0..4 {
                 s0[c] *= target / q0;
             }
@@ -253,8 +240,8 @@ mod tests {
             }
             // Large random increments (up to ~10 yield strains), with spin.
             let scale = 10.0 * SY / E;
-            let l = [rng.range(-scale, scale), rng.range(-scale, scale), rng.range(-scale, scale), rng.range(-scale, scale),
-                     rng.range(-scale, scale)];
+            let l = [rng.uniform(-scale, scale), rng.uniform(-scale, scale), rng.uniform(-scale, scale), rng.uniform(-scale, scale),
+                     rng.uniform(-scale, scale)];
             let mut s = s0;
             let mut state = [ep0, 0.0];
             vm.update_stress(&mut s, &mut state, &kin(l, 1.0));
@@ -369,13 +356,14 @@ mod tests {
         // Plane-strain uniaxial strain along 11 (ε22 = ε33 = 0), log strain ε: radial in
         // deviatoric space. Elastic up to 2Gε = σ_y; then ε̄p = (2Gε − σ_y)/(3G + H),
         // q = σ_y + H ε̄p, σ11 = Kε + (2/3) q, σ22 = σ33 = Kε − (1/3) q.
+        // Driven as the solver drives a particle (F integrated, J passed to the model).
         let vm = copper();
         let (g, k) = (shear_modulus(), bulk_modulus());
-        let mut stress = [0.0; 4];
-        let mut state = [0.0; 2];
+        let mut point = MaterialPoint::new(&vm, [0.0; 4]);
         let (steps, total) = (300, -0.05); // compression
         for step in 1..=steps {
-            vm.update_stress(&mut stress, &mut state, &kin([total / steps as f64, 0.0, 0.0, 0.0, 0.0], 1.0));
+            point.step(&vm, [total / steps as f64, 0.0, 0.0, 0.0, 0.0], 1.0);
+            let (stress, state) = (point.stress, &point.state);
             let eps = total * step as f64 / steps as f64;
             let ep = ((2.0 * g * eps.abs() - SY) / (3.0 * g + H)).max(0.0);
             let q = (SY + H * ep).min(2.0 * g * eps.abs()) * eps.signum();
@@ -385,7 +373,14 @@ mod tests {
             }
             assert!((state[0] - ep).abs() < 1e-12, "ε̄p {} vs {ep}", state[0]);
         }
-        assert!(state[0] > 0.03);
+        assert!(point.state[0] > 0.03);
+        // W_p = Σ J ½(σ_y,n + σ_y,n+1) Δε̄p with J falling from 1 to J_end = F11 < 1 in
+        // compression: between J_end and 1 times the J = 1 value σ_y ε̄p + ½ H ε̄p².
+        let ep = point.state[0];
+        let unit = SY * ep + 0.5 * H * ep * ep;
+        let j_end = point.deformation_gradient[0];
+        assert!(j_end < 0.96);
+        assert!(point.state[1] < unit && point.state[1] > j_end * unit, "W_p {} vs {unit} (J_end {j_end})", point.state[1]);
     }
 
     /// Continuum elastoplastic response of plane-strain tension (σ11 = 0, ε33 = 0, ε22
@@ -535,17 +530,17 @@ mod tests {
         assert!((st2[1] - 0.8 * expected).abs() < 1e-12 * expected);
     }
 
-    fn config(extra: serde_json::Value) -> MaterialConfig {
-        let mut table = serde_json::json!({"model": "von_mises", "density": 8930.0, "youngs_modulus": E, "poisson_ratio": NU});
+    fn from_table(extra: serde_json::Value) -> Result<VonMises, String> {
+        let mut table = serde_json::json!({"density": 8930.0, "youngs_modulus": E, "poisson_ratio": NU});
         for (k, v) in extra.as_object().unwrap() {
             table[k] = v.clone();
         }
-        serde_json::from_value(table).unwrap()
+        VonMises::from_parameters(&Parameters::new("copper", table.as_object().unwrap()))
     }
 
     #[test]
     fn bad_parameters_name_the_key() {
-        let err = |extra| VonMises::from_config("copper", &config(extra)).unwrap_err();
+        let err = |extra| from_table(extra).unwrap_err();
         for bad in [0.0, -1.0] {
             let e = err(serde_json::json!({"yield_stress": bad, "hardening_modulus": H}));
             assert!(e.starts_with("materials.copper.yield_stress:"), "{e}");
@@ -557,9 +552,9 @@ mod tests {
         let e = err(serde_json::json!({"yield_stress": "high"}));
         assert!(e.starts_with("materials.copper.yield_stress:"), "{e}");
         // Perfect plasticity (H = 0) is allowed and is the default.
-        let m = VonMises::from_config("copper", &config(serde_json::json!({"yield_stress": SY}))).unwrap();
+        let m = from_table(serde_json::json!({"yield_stress": SY})).unwrap();
         assert_eq!(m.hardening_modulus, 0.0);
-        let m = VonMises::from_config("copper", &config(serde_json::json!({"yield_stress": SY, "hardening_modulus": H}))).unwrap();
+        let m = from_table(serde_json::json!({"yield_stress": SY, "hardening_modulus": H})).unwrap();
         assert_eq!((m.yield_stress, m.hardening_modulus), (SY, H));
         assert_eq!(m.model(), "von_mises");
         assert_eq!(m.density(), 8930.0);
