@@ -18,7 +18,7 @@ __all__ = ["catalogue", "formulations", "interpolation_schemes", "material_model
 _BUILT_IN: dict[str, tuple[str, ...]] = {
     "formulations": ("plane_strain", "axisymmetric"),
     "interpolation_schemes": ("linear", "ugimp", "cpgimp", "cpdi2"),
-    "material_models": ("linear_elastic", "neo_hookean", "mohr_coulomb"),
+    "material_models": ("linear_elastic", "neo_hookean", "mohr_coulomb", "von_mises"),
     "region_shapes": ("rectangle",),
 }
 

@@ -41,14 +41,14 @@ _ADAPTER: TypeAdapter[Any] = TypeAdapter(Material)
 
 def _strip_tag(key: str) -> str:
     """Drop the discriminator tag pydantic puts in front of a field (``mohr_coulomb.cohesion``)."""
-    for model in ("linear_elastic", "neo_hookean", "mohr_coulomb"):
+    for model in ("linear_elastic", "neo_hookean", "mohr_coulomb", "von_mises"):
         if key.startswith(model + "."):
             return key[len(model) + 1:]
     return key
 
 
 def validate_material(material: dict[str, Any] | Any) -> Any:
-    """A validated material model (LinearElastic, NeoHookean or MohrCoulomb)."""
+    """A validated material model (LinearElastic, NeoHookean, MohrCoulomb or VonMises)."""
     if not isinstance(material, dict):
         if hasattr(material, "model_dump"):
             return material

@@ -51,6 +51,7 @@ __all__ = [
     "LinearElastic",
     "NeoHookean",
     "MohrCoulomb",
+    "VonMises",
     "Body",
     "BoundaryCondition",
     "Boundaries",
@@ -245,11 +246,23 @@ class MohrCoulomb(_Elastic):
     )
 
 
-Material = Annotated[Union[LinearElastic, NeoHookean, MohrCoulomb], Field(discriminator="model")]
+class VonMises(_Elastic):
+    """J2 plasticity with linear isotropic hardening (docs/physics.md §7; engine
+    material/von_mises.rs): σ_y(ε̄p) = yield_stress + hardening_modulus ε̄p."""
+
+    model: Literal["von_mises"]
+    yield_stress: Positive = Field(description="Pa, initial yield stress in uniaxial tension")  # type: ignore[valid-type]
+    hardening_modulus: NonNegative = Field(  # type: ignore[valid-type]
+        0.0, description="Pa, plastic modulus H = d(yield stress)/d(equivalent plastic strain); 0 = perfectly plastic"
+    )
+
+
+Material = Annotated[Union[LinearElastic, NeoHookean, MohrCoulomb, VonMises], Field(discriminator="model")]
 MATERIAL_MODELS: dict[str, type[_Elastic]] = {
     "linear_elastic": LinearElastic,
     "neo_hookean": NeoHookean,
     "mohr_coulomb": MohrCoulomb,
+    "von_mises": VonMises,
 }
 
 
