@@ -250,7 +250,7 @@ def bar_metrics(frame: Any, cell_size: float, half_width: float, formulation: st
 
 def run_metrics(run_dir: Path) -> dict[str, Any]:
     """:func:`bar_metrics` of the last frame of a run folder (None values if it has no frame)."""
-    from ..output import load_run
+    from ..run.output import load_run
 
     run = load_run(run_dir)
     sc = run.scenario
@@ -344,7 +344,7 @@ def results_table(results: list[dict[str, Any]]) -> str:
 
 
 def _last_frame(base: Path, record: dict[str, Any]) -> Any:
-    from ..output import load_run
+    from ..run.output import load_run
 
     return load_run(base / record["run_dir"])
 
