@@ -127,7 +127,10 @@ def test_runs_and_scenarios() -> None:
     assert s.grid.cell_size == pytest.approx(0.2e-3)
     assert body.max[1] == pytest.approx(32.4e-3) and body.max[0] == pytest.approx(3.2e-3)
     assert body.velocity == (0.0, -227.0) and s.simulation.flip_fraction == 1.0
-    assert s.boundaries.bottom.condition == "roller" and s.simulation.gravity == (0.0, 0.0)
+    assert s.simulation.gravity == (0.0, 0.0)
+    (wall,) = s.walls  # the rigid frictionless wall z = 0, two cells above the grid's base
+    assert (wall.axis, wall.position, wall.material_side, wall.condition) == ("y", 0.0, "positive", "roller")
+    assert s.grid.origin[1] == pytest.approx(-2 * 0.2e-3) and body.min[1] == 0.0
     assert s.materials["copper"].model == "von_mises"
     wg = taylor_bar.taylor_scenario("cpgimp", 25, geometry="wilkins_guinan1973")
     assert wg.bodies[0].max[1] == pytest.approx(23.4696e-3) and wg.bodies[0].max[0] == pytest.approx(3.81e-3)
