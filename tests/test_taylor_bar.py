@@ -99,15 +99,16 @@ def test_checks_apply_the_targets_at_the_finest_mesh_only() -> None:
         _record("cpgimp_n08", "cpgimp", 8, 6.0e-3, 20.0e-3),      # coarse: not checked against targets
         _record("cpgimp_n24", "cpgimp", 24, 7.12e-3 * 1.029, 21.45e-3 * 0.986),
         _record("cpdi2_n24", "cpdi2", 24, 7.12e-3 * 1.031, 21.45e-3),  # R_f 3.1 % off
-        _record("ugimp_n24", "ugimp", 24, 5.0e-3, 21.9e-3, e=0.02),    # not a target scheme; energy off
+        _record("ugimp_n24", "ugimp", 24, 5.0e-3, 21.9e-3, e=0.02),    # not a target scheme: reported only
+        _record("cpdi2_n16", "cpdi2", 16, 7.1e-3, 21.4e-3, e=-0.011),  # energy created: fails on any mesh
     ]
     checks = {c["name"]: c["passed"] for c in taylor_bar.evaluate_checks(results)}
     assert checks["cpgimp_n24: R_f within 3.0% of 7.12 mm"]
     assert checks["cpgimp_n24: L_f within 1.5% of 21.45 mm"]
     assert not checks["cpdi2_n24: R_f within 3.0% of 7.12 mm"]
     assert checks["cpdi2_n24: L_f within 1.5% of 21.45 mm"]
-    assert not checks["ugimp_n24: energy balance within 1%"]
-    assert not any(name.startswith(("cpgimp_n08: R_f", "ugimp_n24: R_f")) for name in checks)
+    assert checks["cpgimp_n08: energy balance within 1%"] and not checks["cpdi2_n16: energy balance within 1%"]
+    assert not any(name.startswith(("cpgimp_n08: R_f", "cpdi2_n16: R_f", "ugimp_n24")) for name in checks)
     failed = _record("cpdi2_n24", "cpdi2", 24, None, None, e=None, status="failed")
     checks = {c["name"]: c["passed"] for c in taylor_bar.evaluate_checks([failed])}
     assert checks == {"cpdi2_n24: energy balance within 1%": False, "cpdi2_n24: R_f within 3.0% of 7.12 mm": False,
