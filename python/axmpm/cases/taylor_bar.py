@@ -540,10 +540,12 @@ def report_text(results: list[dict[str, Any]], out: Path, checks: list[dict[str,
 
 Copper bar onto a rigid frictionless wall (Simo 1992 set: L0 = 32.4 mm, R0 = 3.2 mm, ρ = 8930 kg/m³,
 E = 117 GPa, ν = 0.35, σ_y = 0.4 GPa, H = 0.1 GPa, 227 m/s, 80 µs), axisymmetric, pure FLIP, MUSL,
-2 × 2 particles per cell, the base a frictionless roller. Rules (docs/verification.md): L_f = highest
-particle edge; R_f = outermost particle edge (centre + half-extent of F·[−l0, l0]²) among the particles
-whose centre lies within one cell of the wall; max ε̄p among the particles within one cell of the axis;
-energy error = (KE0 − KE − E_el − W_p)/KE0.
+2 × 2 particles per cell, the wall z = 0 a frictionless roller (bilateral, as in Simo 1992). Rules
+(docs/verification.md): L_f = highest particle edge; R_f = outermost particle edge (centre + half-extent
+of F·[−l0, l0]²) among the particles whose centre lies within one cell of the wall; max ε̄p among the
+particles within one cell of the axis; energy error = (KE0 − KE − E_el − W_p)/KE0. Enforced: the targets
+for cpGIMP and CPDI2 at the finest mesh and their energy balance (within 1 %) on every run; original MPM
+and uGIMP are reported.
 
 ## Results
 

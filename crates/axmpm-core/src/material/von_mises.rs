@@ -162,7 +162,7 @@ impl Material for VonMises {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::material::testing::{kinematics as kin, Lcg, MaterialPoint};
+    use crate::material::testing::{kinematics as kin, principal_stresses, Lcg, MaterialPoint};
 
     // Simo (1992) copper: E = 117 GPa, ν = 0.35, σ_y = 0.4 GPa, H = 0.1 GPa.
     const E: f64 = 117e9;
@@ -251,9 +251,13 @@ mod tests {
                 continue;
             }
             plastic += 1;
-            // On the surface of the hardened yield stress.
+            // On the surface of the hardened yield stress, q computed here from the principal
+            // stresses (independently of `equivalent_stress`): q² = ½ Σ (σ_i − σ_j)².
             let f = VonMises::equivalent_stress(&s) - vm.flow_stress(state[0]);
             assert!(f.abs() / SY < 1e-10, "f/σ_y = {:e}", f / SY);
+            let [s1, s2, s3] = principal_stresses(&s);
+            let q = (0.5 * ((s1 - s2).powi(2) + (s2 - s3).powi(2) + (s3 - s1).powi(2))).sqrt();
+            assert!((q - (SY + H * state[0])).abs() / SY < 1e-9, "q from principal stresses {q}");
             // Δε̄p = f_tr/(3G + H) reproduced from the trial state.
             let mut trial = s0;
             let (d, spin) = rate_of_deformation(&l);
@@ -551,9 +555,24 @@ mod tests {
         assert!(e.starts_with("materials.copper.hardening_modulus:"), "{e}");
         let e = err(serde_json::json!({"yield_stress": "high"}));
         assert!(e.starts_with("materials.copper.yield_stress:"), "{e}");
+        // The elastic keys: range checks at their bounds, each naming its key.
+        for (key, bad) in [("youngs_modulus", 0.0), ("youngs_modulus", -1.0), ("poisson_ratio", 0.5),
+                           ("poisson_ratio", -1.0), ("density", 0.0), ("density", -1.0)] {
+            let mut extra = serde_json::json!({"yield_stress": SY});
+            extra[key] = serde_json::json!(bad);
+            let e = err(extra);
+            assert!(e.starts_with(&format!("materials.copper.{key}:")), "{key} = {bad}: {e}");
+        }
+        for (key, fine) in [("poisson_ratio", 0.499), ("poisson_ratio", -0.99), ("hardening_modulus", 0.0)] {
+            let mut extra = serde_json::json!({"yield_stress": SY});
+            extra[key] = serde_json::json!(fine);
+            assert!(from_table(extra).is_ok(), "{key} = {fine} must be accepted");
+        }
         // Perfect plasticity (H = 0) is allowed and is the default.
         let m = from_table(serde_json::json!({"yield_stress": SY})).unwrap();
         assert_eq!(m.hardening_modulus, 0.0);
+        assert!(build(&Parameters::new("copper", serde_json::json!({"density": 1.0, "youngs_modulus": E,
+            "poisson_ratio": NU, "yield_stress": SY}).as_object().unwrap())).is_ok());
         let m = from_table(serde_json::json!({"yield_stress": SY, "hardening_modulus": H})).unwrap();
         assert_eq!((m.yield_stress, m.hardening_modulus), (SY, H));
         assert_eq!(m.model(), "von_mises");
