@@ -49,7 +49,7 @@ def test_a_name_the_engine_does_not_know_is_refused_with_the_choices() -> None:
         "did you mean 'axisymmetric'?",
         "error: simulation.shape_function: must be 'linear', 'ugimp', 'cpgimp' or 'cpdi2' (got 3)",
         "error: materials.sand.model: unknown material model 'mohr_coulmb'; expected one of 'linear_elastic', "
-        "'neo_hookean', 'mohr_coulomb'; did you mean 'mohr_coulomb'?",
+        "'neo_hookean', 'mohr_coulomb', 'von_mises'; did you mean 'mohr_coulomb'?",
     ]
 
 
@@ -57,6 +57,7 @@ def test_a_name_the_engine_does_not_know_is_refused_with_the_choices() -> None:
     ("linear_elastic", {}, 0.25 / 0.75),
     ("neo_hookean", {}, 0.25 / 0.75),
     ("mohr_coulomb", {"friction_angle": 30.0}, 0.5),
+    ("von_mises", {"yield_stress": 4e8}, 0.25 / 0.75),
 ])
 def test_k0_default_is_the_models(model: str, extra: dict, k0: float) -> None:
     material = MATERIAL_MODELS[model](model=model, density=1000.0, youngs_modulus=1e6, poisson_ratio=0.25, **extra)

@@ -15,6 +15,7 @@ pub mod linear_elastic;
 pub mod mohr_coulomb;
 pub mod mu_i;
 pub mod neo_hookean;
+pub mod von_mises;
 #[cfg(test)]
 pub mod testing;
 
@@ -22,6 +23,7 @@ pub use linear_elastic::LinearElastic;
 pub use mohr_coulomb::MohrCoulomb;
 pub use mu_i::InertialMohrCoulomb;
 pub use neo_hookean::NeoHookean;
+pub use von_mises::VonMises;
 
 /// What a material sees of one particle's motion over the step.
 #[derive(Clone, Copy, Debug)]
@@ -158,6 +160,7 @@ pub const MODELS: &[(&str, ModelBuilder)] = &[
     ("neo_hookean", neo_hookean::build),
     // An `inertial_friction_angle` makes the friction angle follow μ(I) (mu_i.rs).
     ("mohr_coulomb", mohr_coulomb::build),
+    ("von_mises", von_mises::build),
 ];
 
 /// Names of the registered models, in registry order.
@@ -201,6 +204,7 @@ mod tests {
     fn every_model_is_built_by_its_registered_name_and_unknown_ones_list_the_known() {
         let mut config = MaterialConfig::elastic("x", 1550.0, 1e6, 0.3);
         config.set("friction_angle", 30.0);
+        config.set("yield_stress", 1e4);
         for name in model_names() {
             config.model = name.into();
             let m = build("sand", &config).unwrap();
@@ -210,7 +214,7 @@ mod tests {
         config.model = "cam_clay".into();
         assert_eq!(
             build("sand", &config).err().unwrap(),
-            "materials.sand.model: unknown model 'cam_clay' (known: linear_elastic, neo_hookean, mohr_coulomb)"
+            "materials.sand.model: unknown model 'cam_clay' (known: linear_elastic, neo_hookean, mohr_coulomb, von_mises)"
         );
     }
 
