@@ -104,6 +104,9 @@ impl InertialMohrCoulomb {
             return Ok(None);
         };
         let phi = base.friction_angle;
+        if phi == 0.0 {
+            return Err("inertial_friction_angle needs a static friction_angle > 0 (not Tresca)".into());
+        }
         if !(phi2 >= phi && phi2 < 90.0) {
             return Err(format!(
                 "inertial_friction_angle must be in [friction_angle, 90) = [{phi}, 90) degrees (got {phi2})"
