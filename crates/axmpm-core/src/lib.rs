@@ -7,6 +7,7 @@
 pub mod boundary;
 pub mod config;
 pub mod formulation;
+pub mod geometry;
 pub mod grid;
 pub mod material;
 pub mod particles;
