@@ -6,6 +6,7 @@
 
 pub mod boundary;
 pub mod config;
+pub mod constraint;
 pub mod formulation;
 pub mod geometry;
 pub mod grid;

@@ -141,6 +141,69 @@ impl Polygon {
         &self.vertices
     }
 
+    /// The union of this polygon and its mirror image about the vertical line x = `axis`, when
+    /// the polygon lies at x ≥ axis and has an edge on that line (a body against a symmetry
+    /// plane or the axis of revolution): the half model's own edge on the axis is not a surface.
+    /// `None` when there is no such edge or the union is not a simple polygon.
+    pub fn mirrored_about(&self, axis: f64) -> Option<Polygon> {
+        let n = self.vertices.len();
+        let tol = self.tolerance;
+        let on_axis = |k: usize| (self.vertices[k % n][0] - axis).abs() <= tol;
+        if self.bounding_box.0[0] < axis - tol {
+            return None;
+        }
+        // An edge k → k + 1 on the axis whose next edge leaves it: the chain starts at k + 1.
+        let start = (0..n).find(|&k| on_axis(k) && on_axis(k + 1) && !on_axis(k + 2))? + 1;
+        // Walk forward to the first vertex back on the axis: the chain off the axis.
+        let mut chain = vec![[axis, self.vertices[start % n][1]]];
+        let mut k = start + 1;
+        while !on_axis(k) {
+            chain.push(self.vertices[k % n]);
+            k += 1;
+        }
+        let end = [axis, self.vertices[k % n][1]];
+        // Every other vertex must lie on the axis run, else the polygon meets the axis twice.
+        if (k - start) + 1 < n && (k + 1..start + n).any(|j| !on_axis(j)) {
+            return None;
+        }
+        let interior: Vec<[f64; 2]> = chain[1..].to_vec();
+        chain.push(end);
+        chain.extend(interior.iter().rev().map(|v| [2.0 * axis - v[0], v[1]]));
+        Polygon::new(chain).ok()
+    }
+
+    /// The faces a point inside (or on) the polygon is nearest to, for contact: the signed
+    /// distance, the outward normal of the nearest edge (an edge normal, also on a vertex), and
+    /// the outward normal of another edge within `tie` of that distance (at a corner, the other
+    /// face), if any.
+    pub fn nearest_faces(&self, x: [f64; 2], tie: f64) -> (f64, [f64; 2], Option<[f64; 2]>) {
+        let n = self.vertices.len();
+        let mut nearest = (f64::INFINITY, 0usize);
+        let mut second: Option<(f64, usize)> = None;
+        for i in 0..n {
+            let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
+            let e = sub(b, a);
+            let t = (dot(sub(x, a), e) / dot(e, e)).clamp(0.0, 1.0);
+            let d = sub(x, [a[0] + t * e[0], a[1] + t * e[1]]);
+            let distance = dot(d, d).sqrt();
+            if distance < nearest.0 {
+                if nearest.0 <= distance + tie {
+                    second = Some(nearest);
+                }
+                nearest = (distance, i);
+            } else if second.is_none_or(|(sd, _)| distance < sd) {
+                second = Some((distance, i));
+            }
+        }
+        let inside = self.crossing_inside(x);
+        let signed = if inside { -nearest.0 } else { nearest.0 };
+        let first = self.normals[nearest.1];
+        let other = second
+            .filter(|&(d, i)| d <= nearest.0 + tie && dot(self.normals[i], first) < 1.0 - 1e-12)
+            .map(|(_, i)| self.normals[i]);
+        (signed, first, other)
+    }
+
     /// Crossing-number test (even–odd rule), boundary not included reliably.
     #[inline]
     fn crossing_inside(&self, x: [f64; 2]) -> bool {
@@ -278,6 +341,11 @@ pub fn build(
     context: &str,
     table: &serde_json::Map<String, serde_json::Value>,
 ) -> Result<Box<dyn Region>, String> {
+    from_table(context, table).map(|p| Box::new(p) as Box<dyn Region>)
+}
+
+/// The polygon of a table's `vertices` (errors name `{context}.vertices`).
+pub fn from_table(context: &str, table: &serde_json::Map<String, serde_json::Value>) -> Result<Polygon, String> {
     let key = format!("{context}.vertices");
     let list = match table.get("vertices") {
         Some(serde_json::Value::Array(list)) => list,
@@ -292,7 +360,7 @@ pub fn build(
             None => return Err(format!("{key}[{i}]: must be a pair of numbers [x, y] (got {v})")),
         }
     }
-    Polygon::new(vertices).map(|p| Box::new(p) as Box<dyn Region>).map_err(|e| format!("{key}: {e}"))
+    Polygon::new(vertices).map_err(|e| format!("{key}: {e}"))
 }
 
 #[cfg(test)]
@@ -385,6 +453,41 @@ mod tests {
             let error = (count as f64 * s * s - p.area()).abs();
             assert!(error <= perimeter * s, "spacing {s}: {} vs {}", count as f64 * s * s, p.area());
         }
+    }
+
+    #[test]
+    fn mirroring_about_the_axis_removes_the_axis_edge() {
+        // Pile with a conical tip, against the axis x = 0 (clockwise as given).
+        let pile = Polygon::new(vec![[0.0, 1.0], [0.25, 1.0], [0.25, 0.4], [0.0, 0.2]]).unwrap();
+        let both = pile.mirrored_about(0.0).expect("has an axis edge");
+        assert!((both.area() - 2.0 * pile.area()).abs() < 1e-14);
+        assert!(both.radial_moment().abs() < 1e-14);
+        // On the axis inside the pile the nearest surface is the tip or the top, not the axis.
+        let (d, n) = both.signed_distance([0.0, 0.3]);
+        assert!(d < -0.05 && n[1] < -0.5, "({d}, {n:?})");
+        assert!(pile.signed_distance([0.0, 0.3]).0.abs() < 1e-14, "the half model puts the axis at distance 0");
+        // Off the axis nothing changes.
+        for x in [[0.2, 0.5], [0.3, 0.9], [0.1, 0.1]] {
+            let (a, b) = (pile.signed_distance(x), both.signed_distance(x));
+            assert!((a.0 - b.0).abs() < 1e-14 && (a.1[0] - b.1[0]).abs() < 1e-14, "{x:?}");
+        }
+        // A rectangle with three vertices on the axis (collinear run) mirrors too.
+        let r = Polygon::new(vec![[0.0, 0.0], [0.5, 0.0], [0.5, 1.0], [0.0, 1.0], [0.0, 0.5]]).unwrap();
+        let m = r.mirrored_about(0.0).unwrap();
+        assert_eq!(m.bounding_box(), ([-0.5, 0.0], [0.5, 1.0]));
+        // Not touching the axis, or crossing it: no mirror.
+        assert!(ell().mirrored_about(-1.0).is_none());
+        assert!(ell().mirrored_about(1.0).is_none());
+    }
+
+    #[test]
+    fn nearest_faces_reports_both_faces_at_a_corner() {
+        let p = Polygon::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]).unwrap();
+        let (_, n, second) = p.nearest_faces([0.999, 0.0005], 1e-3);
+        assert_eq!(n, [0.0, -1.0]);
+        assert_eq!(second, Some([1.0, 0.0]));
+        let (_, n, second) = p.nearest_faces([0.9, 0.0005], 1e-3);
+        assert_eq!((n, second), ([0.0, -1.0], None));
     }
 
     #[test]
