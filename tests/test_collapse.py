@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from axmpm.collapse import (ColumnGeometry, collapse_scenario, deposit_metrics, final_height,
+from axmpm.cases.column_collapse import collapse_scenario
+from axmpm.cases.column_collapse.deposit import (ColumnGeometry, deposit_metrics, final_height,
                             geometry_from_scenario, particle_metrics, runout_radius, surface_profile)
 
 H_CELL = 0.002
@@ -148,12 +149,18 @@ def test_tiny_validate_run(tmp_path):
                 "runout_radius", "final_height", "run_dir", "cells_per_radius", "laws"):
         assert key in case
     assert case["name"] == "a056" and case["formulation"] == "axisymmetric"
+    # the driver's reference: Lube et al. 2004 at the simulated aspect ratio
+    assert case["reference"]["runout_normalised"] == pytest.approx(case["laws"]["lube2004"]["runout_normalised"])
+    assert case["relative_error"]["runout_normalised"] == pytest.approx(
+        case["laws"]["lube2004"]["runout_normalised_rel_diff"])
+    assert data["formulation"] == "axisymmetric" and data["checks"][0]["passed"]
     assert case["status"] == "completed" and case["cells_per_radius"] == pytest.approx(8.0)
     lube = case["laws"]["lube2004"]
     for key in ("runout_radius", "final_height", "runout_radius_rel_diff", "final_height_rel_diff"):
         assert key in lube
     # reported values are those of the last frame
-    m = deposit_metrics(case["run_dir"])
+    assert case["case"] == "column_collapse" and case["run_dir"] == "cases/column_collapse/a056"
+    m = deposit_metrics(out / case["run_dir"])
     assert m["runout_radius"] == case["runout_radius"] and m["final_height"] == case["final_height"]
     assert m["time"] == pytest.approx(0.06)
     assert case["initial_radius"] < case["runout_radius"] < 2 * case["initial_radius"]
@@ -163,7 +170,7 @@ def test_tiny_validate_run(tmp_path):
 
 @pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
 def test_one_grain_runout_is_where_a_cone_is_one_grain_thick(formulation):
-    from axmpm.collapse import GRAIN_DIAMETER, runout_radius_at_thickness
+    from axmpm.cases.column_collapse.deposit import GRAIN_DIAMETER, runout_radius_at_thickness
 
     g = geom(formulation)
     H0, Rc = 0.024, 0.05

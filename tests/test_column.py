@@ -7,8 +7,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from axmpm import exact
-from axmpm.column import column_errors, column_geometry, column_scenario
+from axmpm.cases.column_1d import exact
+from axmpm.cases.column_1d import column_errors, column_geometry, column_scenario
 
 
 @pytest.mark.parametrize("formulation", ["plane_strain", "axisymmetric"])

@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from axmpm.convergence import constant_ratio, richardson
+from axmpm.study.convergence import constant_ratio, richardson
 
 
 @pytest.mark.parametrize("order", [1.0, 1.5, 2.0])
@@ -54,7 +54,7 @@ def test_command_runs_three_meshes_and_writes_report(tmp_path):
         assert set(case["richardson"][key]) == {"converging", "order", "extrapolated"}
     assert (out / "convergence.md").read_text().count("| a056 |") == 4
     assert (out / "convergence.png").stat().st_size > 0
-    assert (out / "h1.5mm" / "cases" / "a056" / "particles.pvd").exists()
+    assert (out / "h1.5mm" / "cases" / "column_collapse" / "a056" / "particles.pvd").exists()
 
 
 @pytest.mark.parametrize("args,text", [
@@ -77,7 +77,7 @@ def test_completed_meshes_are_reused(tmp_path):
             "--jobs", "1", "--out", str(out)]
     first = subprocess.run(base + ["--cell-sizes", "0.006,0.003"], capture_output=True, text=True, timeout=600)
     assert first.returncode == 0, first.stderr
-    marker = out / "h6mm" / "cases" / "a056" / "summary.json"
+    marker = out / "h6mm" / "cases" / "column_collapse" / "a056" / "summary.json"
     before = marker.stat().st_mtime_ns
     second = subprocess.run(base + ["--cell-sizes", "0.006,0.003,0.0015"], capture_output=True, text=True,
                             timeout=600)
@@ -91,7 +91,7 @@ def test_profile_difference_of_deposits(tmp_path):
     """0 for a deposit against itself, between 0 and 2 for two meshes of the same column,
     refused for columns of different aspect ratio."""
     import axmpm
-    from axmpm.collapse import collapse_scenario, profile_difference
+    from axmpm.cases.column_collapse import collapse_scenario, profile_difference
 
     dirs = {}
     for name, a, h in (("c6", 0.8, 0.006), ("c3", 0.8, 0.003), ("tall", 1.6, 0.006)):
@@ -107,7 +107,7 @@ def test_profile_difference_of_deposits(tmp_path):
 
 def test_table_shows_profile_difference():
     """The table prints each mesh's deposit difference to the finest mesh (— if absent)."""
-    from axmpm.convergence import table
+    from axmpm.study.convergence import table
 
     mesh = {"cell_size": 0.002, "cells_per_radius": 15.0, "aspect_ratio": 0.8, "status": "completed",
             "wall_seconds": 1.0, "profile_difference": 0.132}

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from axmpm import exact
+from axmpm.cases.column_1d import exact
 
 H, RHO, G = 1.0, 1000.0, 10.0
 MODES = ["compression", "tension"]

@@ -1,10 +1,10 @@
-"""axmpm.laws: empirical column-collapse laws with sources and confidence flags."""
+"""axmpm.cases.column_collapse.laws: empirical column-collapse laws with sources and confidence flags."""
 
 import math
 
 import pytest
 
-from axmpm.laws import LAWS, LUBE_2004, LAJEUNESSE_2004_KK, LAJEUNESSE_2004_STARON, \
+from axmpm.cases.column_collapse.laws import LAWS, LUBE_2004, LAJEUNESSE_2004_KK, LAJEUNESSE_2004_STARON, \
     LAJEUNESSE_2005_HEIGHT, compare, get_law
 
 

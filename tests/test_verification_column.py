@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import axmpm
-from axmpm.column import column_errors, column_scenario, stress_difference
+from axmpm.cases.column_1d import column_errors, column_scenario, stress_difference
 
 CELLS_ALONG = 32
 CELLS_ACROSS = 2

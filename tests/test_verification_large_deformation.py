@@ -9,7 +9,7 @@ from __future__ import annotations
 import pytest
 
 import axmpm
-from axmpm.column import column_errors, column_scenario, stress_difference
+from axmpm.cases.column_1d import column_errors, column_scenario, stress_difference
 
 CELLS_ALONG = 20
 WIDTH = 2 / CELLS_ALONG

@@ -1,5 +1,5 @@
-"""``axmpm verify``: the quick verification through the CLI, and the enforced checks on
-fabricated results (they must be able to fail)."""
+"""``axmpm verify``: the quick verification (the ``column_1d`` case) through the CLI, and the
+enforced checks on fabricated results (they must be able to fail)."""
 
 from __future__ import annotations
 
@@ -11,8 +11,11 @@ from pathlib import Path
 import pytest
 
 import axmpm
-from axmpm import verify
+from axmpm.cases import driver
+from axmpm.cases.column_1d import case as verify
 from conftest import run_cli
+
+RESULTS, REPORT = "verification.json", "report.md"
 
 CASE_FIELDS = {
     "name", "scheme", "formulation", "mode", "offset", "cells_per_length", "density", "gravity",
@@ -36,7 +39,7 @@ def test_quick_exits_zero(quick) -> None:
 
 def test_quick_json(quick) -> None:
     out, _ = quick
-    data = json.loads((out / verify.RESULTS).read_text())
+    data = json.loads((out / RESULTS).read_text())
     cases, checks = data["cases"], data["checks"]
     expected = len(verify.SCHEMES) * len(verify.MODES) * len(verify.LAYOUTS) * len(verify.QUICK_RESOLUTIONS)
     assert len(cases) == expected
@@ -71,7 +74,7 @@ def test_quick_json(quick) -> None:
 
 def test_quick_report_and_figures(quick) -> None:
     out, _ = quick
-    report = (out / verify.REPORT).read_text()
+    report = (out / REPORT).read_text()
     assert "| scheme | mode | formulation |" in report and "Enforced checks" in report
     assert "Original MPM" in report and "uGIMP" in report
     pngs = sorted((out / verify.FIGURES).glob("*.png"))
@@ -88,12 +91,13 @@ def test_quick_report_and_figures(quick) -> None:
 def fabricated(resolutions=(16, 32)) -> list[dict]:
     """Every case completed, with plausible errors that pass every check."""
     cases = []
-    for spec in verify.case_specs(resolutions):
-        c = verify._base_record(spec)
-        scale = 16.0 / spec.cells_along
+    for spec in verify.run_specs(resolutions):
+        c = {"case": "column_1d", "run": spec.name, "name": spec.name, **spec.params, **verify.EMPTY_METRICS,
+             "run_dir": driver.run_dir_of("column_1d", spec), "status": "not run", "message": ""}
+        scale = 16.0 / spec.params["cells_along"]
         c.update(status="completed", stress_error=0.008 * scale, displacement_error=0.001 * scale,
                  max_stress_error=0.02 * scale,
-                 plane_strain_difference=None if spec.layout == "plane_strain" else 1e-6)
+                 plane_strain_difference=None if spec.params["layout"] == "plane_strain" else 1e-6)
         c["passed"] = verify.case_passes(c)
         cases.append(c)
     return cases
@@ -159,22 +163,27 @@ def test_linear_and_ugimp_failures_are_not_enforced() -> None:
 
 
 def test_main_exits_one_when_a_check_fails(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from axmpm.cli import main
+
     bad = fabricated()
     find(bad, "cpdi2", "compression", "plane_strain", 32)["stress_error"] = 0.05
-    monkeypatch.setattr(verify, "run_cases", lambda specs, out, **kw: copy.deepcopy(bad))
+    monkeypatch.setattr(driver, "run_cases",
+                        lambda cases, options, out, **kw: {"column_1d": driver.Results(copy.deepcopy(bad))})
     monkeypatch.setattr(verify, "add_twin_differences", lambda cases, out: None)
     monkeypatch.setattr(verify, "make_figures", lambda results, out: {})
-    args = argparse.Namespace(out=tmp_path / "v", quick=True, jobs=1, threads=1, overwrite=False)
-    assert verify.main(args) == 1
-    data = json.loads((tmp_path / "v" / verify.RESULTS).read_text())
-    assert data["passed"] is False
-    assert "**FAIL**" in (tmp_path / "v" / verify.REPORT).read_text()
+    assert main(["verify", "--out", str(tmp_path / "v"), "--quick", "--jobs", "1"]) == 1
+    data = json.loads((tmp_path / "v" / RESULTS).read_text())
+    assert data["passed"] is False and data["selected"] == ["column_1d"]
+    assert "**FAIL**" in (tmp_path / "v" / REPORT).read_text()
 
 
 def test_results_do_not_depend_on_jobs(tmp_path: Path) -> None:
-    specs = [verify.CaseSpec("cpdi2", "tension", "plane_strain", 8), verify.CaseSpec("linear", "tension", "plane_strain", 8),
-             verify.CaseSpec("ugimp", "compression", "axisymmetric_axis", 8)]
-    serial = verify.run_cases(specs, tmp_path / "a", jobs=1)
-    pooled = verify.run_cases(specs, tmp_path / "b", jobs=2)
-    keys = ("name", "status", "stress_error", "displacement_error", "max_stress_error", "steps")
+    from axmpm.study.parallel import process_pool
+
+    specs = [verify.run_spec("cpdi2", "tension", "plane_strain", 8), verify.run_spec("linear", "tension", "plane_strain", 8),
+             verify.run_spec("ugimp", "compression", "axisymmetric_axis", 8)]
+    serial = [driver.execute_run("column_1d", s, tmp_path / "a") for s in specs]
+    with process_pool(2) as pool:
+        pooled = list(pool.map(driver.execute_run, ["column_1d"] * 3, specs, [str(tmp_path / "b")] * 3))
+    keys = ("name", "status", "stress_error", "displacement_error", "max_stress_error", "steps", "relative_error")
     assert [[c[k] for k in keys] for c in serial] == [[c[k] for k in keys] for c in pooled]

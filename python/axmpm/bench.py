@@ -109,7 +109,9 @@ def machine() -> dict[str, Any]:
                     break
     except OSError:
         pass
-    return {"cpu": cpu, "cores": len(os.sched_getaffinity(0)), "python": platform.python_version(),
+    from .study.parallel import available_cores
+
+    return {"cpu": cpu, "cores": available_cores(), "python": platform.python_version(),
             "system": platform.system()}
 
 
@@ -141,7 +143,9 @@ def main(args: argparse.Namespace) -> int:
 
     schemes = _validated_list(args.schemes, SCHEMES, "schemes")
     formulations = _validated_list(args.formulations, FORMULATIONS, "formulations")
-    cores = len(os.sched_getaffinity(0))
+    from .study.parallel import available_cores
+
+    cores = available_cores()
     threads = args.threads or sorted({1, cores})
     if any(t < 1 for t in threads):
         raise RunError("--threads must be >= 1")

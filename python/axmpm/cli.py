@@ -66,12 +66,12 @@ def _parser() -> argparse.ArgumentParser:
 #: Adding a command = one new module + one line here.
 COMMAND_MODULES: tuple[str, ...] = (
     "axmpm.resume",
-    "axmpm.verify",
+    "axmpm.cases.verify",
     "axmpm.bench",
-    "axmpm.sweep",
-    "axmpm.validate",
-    "axmpm.convergence",
-    "axmpm.calibrate",
+    "axmpm.study.sweep",
+    "axmpm.cases.validate",
+    "axmpm.study.convergence",
+    "axmpm.study.calibration",
 )
 
 
@@ -124,7 +124,7 @@ def _cmd_schema(args: argparse.Namespace) -> int:
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     if not args.column:
-        from .demo import run_collapse_demo
+        from .cases.column_collapse.demo import run_collapse_demo
 
         print("Granular column collapse, a = 0.56, axisymmetric, Mohr-Coulomb (phi 25, psi 0), "
               "2 mm cells (15 per R_i), cpGIMP, pure FLIP")
@@ -143,7 +143,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
             print(f"figures and summary: {res.figure}, {res.report}")
         return code
 
-    from .demo import run_demo
+    from .cases.column_1d.demo import run_demo
 
     print("1D column under self-weight, compression, rho0 g H / E = 0.01, axisymmetric, linear MPM")
     result = run_demo(args.out, overwrite=args.overwrite, threads=args.threads, progress=args.progress)

@@ -490,11 +490,3 @@ def resume(
                      wall_offset=ckpt.wall_seconds, engine_seconds=ckpt.engine_seconds)
     driver.last_good = ckpt
     return driver.drive(ckpt.output_index)
-
-
-def default_threads() -> int:
-    """Cores available to this process."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # pragma: no cover - non-Linux
-        return os.cpu_count() or 1

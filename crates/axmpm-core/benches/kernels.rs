@@ -11,7 +11,7 @@ use axmpm_core::config::*;
 use axmpm_core::grid::GridGeometry;
 use axmpm_core::material::{Kinematics, LinearElastic, Material, MohrCoulomb, NeoHookean};
 use axmpm_core::particles::Particles;
-use axmpm_core::shape::*;
+use axmpm_core::interpolation::*;
 use axmpm_core::Simulation;
 use criterion::{criterion_group, criterion_main, Criterion};
 
@@ -80,18 +80,18 @@ fn block(shape: ShapeFunctionKind) -> Config {
     let mut materials = BTreeMap::new();
     materials.insert(
         "sand".to_string(),
-        MaterialConfig {
-            model: "mohr_coulomb".into(),
-            density: 1550.0,
-            youngs_modulus: 1e6,
-            poisson_ratio: 0.3,
-            friction_angle: Some(25.0),
-            dilation_angle: Some(0.0),
-            cohesion: Some(0.0),
-            tension_cutoff: Some(0.0),
-            recompaction: None,
-            extra: Default::default(),
-        },
+        MaterialConfig::new(
+            "mohr_coulomb",
+            &[
+                ("density", 1550.0.into()),
+                ("youngs_modulus", 1e6.into()),
+                ("poisson_ratio", 0.3.into()),
+                ("friction_angle", 25.0.into()),
+                ("dilation_angle", 0.0.into()),
+                ("cohesion", 0.0.into()),
+                ("tension_cutoff", 0.0.into()),
+            ],
+        ),
     );
     Config {
         simulation: SimulationConfig {
@@ -112,15 +112,9 @@ fn block(shape: ShapeFunctionKind) -> Config {
         grid: GridConfig { origin: [0.0, 0.0], extent: [0.2, 0.1], cell_size: 0.001 },
         materials,
         bodies: vec![BodyConfig {
-            name: None,
-            material: "sand".into(),
-            shape: "rectangle".into(),
-            min: [0.0, 0.0],
-            max: [0.05, 0.1],
-            particles_per_cell: 2,
-            velocity: [0.0, 0.0],
             initial_stress: InitialStress::Geostatic,
             k0: Some(0.58),
+            ..BodyConfig::rectangle("sand", [0.0, 0.0], [0.05, 0.1])
         }],
         boundaries: BoundariesConfig {
             left: BoundaryCondition::ROLLER,

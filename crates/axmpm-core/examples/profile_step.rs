@@ -9,17 +9,14 @@ fn main() {
     let threads: usize = args.get(2).map(|s| s.parse().unwrap()).unwrap_or(1);
     let steps: u64 = args.get(3).map(|s| s.parse().unwrap()).unwrap_or(200);
     let mut materials = BTreeMap::new();
-    materials.insert("m".to_string(), MaterialConfig {
-        model: "linear_elastic".into(), density: 1500.0, youngs_modulus: 1e6, poisson_ratio: 0.3,
-        friction_angle: None, dilation_angle: None, cohesion: None, tension_cutoff: None, recompaction: None, extra: Default::default() });
+    materials.insert("m".to_string(), MaterialConfig::elastic("linear_elastic", 1500.0, 1e6, 0.3));
     let cfg = Config {
         simulation: SimulationConfig { formulation: FormulationKind::Axisymmetric, shape_function: shape, end_time: 1.0,
             output_interval: 0.1, gravity: [0.0, -9.81], gravity_ramp_time: 0.0, time_step: 0.0, cfl: 0.4,
             update_scheme: UpdateScheme::Musl, flip_fraction: 0.99, damping: 0.0, volumetric_averaging: VolumetricAveraging::None, extra: Default::default() },
         grid: GridConfig { origin: [0.0, 0.0], extent: [0.4, 0.3], cell_size: std::env::var("H").map(|s| s.parse().unwrap()).unwrap_or(0.001) },
         materials,
-        bodies: vec![BodyConfig { name: None, material: "m".into(), shape: "rectangle".into(), min: [0.0, 0.0],
-            max: [0.1, 0.2], particles_per_cell: 2, velocity: [0.0, 0.0], initial_stress: InitialStress::Zero, k0: None }],
+        bodies: vec![BodyConfig::rectangle("m", [0.0, 0.0], [0.1, 0.2])],
         boundaries: BoundariesConfig { left: BoundaryCondition::ROLLER, right: BoundaryCondition::FREE,
             bottom: BoundaryCondition::friction(0.5), top: BoundaryCondition::FREE },
         walls: vec![], extra: Default::default() };

@@ -1,6 +1,6 @@
 use axmpm_core::grid::GridGeometry;
 use axmpm_core::particles::Particles;
-use axmpm_core::shape::*;
+use axmpm_core::interpolation::*;
 fn run<S: ShapeFunction>(g: &GridGeometry, p: &Particles) {
     let mut st = Stencil::default();
     let t = std::time::Instant::now();

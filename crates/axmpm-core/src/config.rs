@@ -23,6 +23,34 @@ pub enum ShapeFunctionKind {
     Cpdi2,
 }
 
+impl FormulationKind {
+    pub const ALL: [Self; 2] = [Self::PlaneStrain, Self::Axisymmetric];
+
+    /// The scenario's name (`simulation.formulation`), the formulation type's own.
+    pub fn name(self) -> &'static str {
+        use crate::formulation::{Axisymmetric, Formulation, PlaneStrain};
+        match self {
+            Self::PlaneStrain => PlaneStrain::NAME,
+            Self::Axisymmetric => Axisymmetric::NAME,
+        }
+    }
+}
+
+impl ShapeFunctionKind {
+    pub const ALL: [Self; 4] = [Self::Linear, Self::Ugimp, Self::Cpgimp, Self::Cpdi2];
+
+    /// The scenario's name (`simulation.shape_function`), the scheme type's own.
+    pub fn name(self) -> &'static str {
+        use crate::interpolation::{CpGimp, Cpdi2, Linear, ShapeFunction, UGimp};
+        match self {
+            Self::Linear => Linear::NAME,
+            Self::Ugimp => UGimp::NAME,
+            Self::Cpgimp => CpGimp::NAME,
+            Self::Cpdi2 => Cpdi2::NAME,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum UpdateScheme {
@@ -100,27 +128,39 @@ pub struct GridConfig {
     pub cell_size: f64,
 }
 
-/// One material, tagged by `model`. Each model reads the fields it needs.
+/// One material: the `model` (a name of [`crate::material::MODELS`]) and its parameters, which
+/// the model reads itself (`crate::material::Parameters`): `density`, `youngs_modulus`,
+/// `poisson_ratio`, and the model's own keys.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct MaterialConfig {
     pub model: String,
-    pub density: f64,
-    pub youngs_modulus: f64,
-    pub poisson_ratio: f64,
-    #[serde(default)]
-    pub friction_angle: Option<f64>,
-    #[serde(default)]
-    pub dilation_angle: Option<f64>,
-    #[serde(default)]
-    pub cohesion: Option<f64>,
-    #[serde(default)]
-    pub tension_cutoff: Option<f64>,
-    /// Mohr–Coulomb: separated (apex / tension-cut-off) material re-compacts stress-free before
-    /// it carries compression again (`None` = the model's default).
-    #[serde(default)]
-    pub recompaction: Option<bool>,
     #[serde(flatten)]
-    pub extra: serde_json::Map<String, serde_json::Value>,
+    pub parameters: serde_json::Map<String, serde_json::Value>,
+}
+
+impl MaterialConfig {
+    /// A material from its model and `(key, value)` parameters, for Rust callers.
+    pub fn new(model: &str, parameters: &[(&str, serde_json::Value)]) -> Self {
+        Self { model: model.into(), parameters: parameters.iter().map(|(k, v)| (k.to_string(), v.clone())).collect() }
+    }
+
+    /// An elastic material (`linear_elastic`, `neo_hookean`) or the elastic part of another.
+    pub fn elastic(model: &str, density: f64, youngs_modulus: f64, poisson_ratio: f64) -> Self {
+        Self::new(
+            model,
+            &[
+                ("density", density.into()),
+                ("youngs_modulus", youngs_modulus.into()),
+                ("poisson_ratio", poisson_ratio.into()),
+            ],
+        )
+    }
+
+    /// Sets (or replaces) one parameter.
+    pub fn set(&mut self, key: &str, value: impl Into<serde_json::Value>) -> &mut Self {
+        self.parameters.insert(key.to_string(), value.into());
+        self
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -135,10 +175,6 @@ pub struct BodyConfig {
     #[serde(default)]
     pub name: Option<String>,
     pub material: String,
-    #[serde(default = "default_body_shape")]
-    pub shape: String,
-    pub min: [f64; 2],
-    pub max: [f64; 2],
     #[serde(default = "default_ppc")]
     pub particles_per_cell: u32,
     #[serde(default)]
@@ -148,11 +184,33 @@ pub struct BodyConfig {
     /// Lateral earth-pressure ratio for geostatic stress; `None` = ν/(1−ν).
     #[serde(default)]
     pub k0: Option<f64>,
+    /// The region the body fills: `shape` (default "rectangle") and the shape's own keys
+    /// (rectangle: `min`, `max`), read by [`crate::geometry::build`].
+    #[serde(flatten)]
+    pub region: serde_json::Map<String, serde_json::Value>,
 }
 
-fn default_body_shape() -> String {
-    "rectangle".into()
+impl BodyConfig {
+    /// A rectangular body of `material` (2 particles per cell and direction, at rest, stress
+    /// free), for Rust callers.
+    pub fn rectangle(material: &str, min: [f64; 2], max: [f64; 2]) -> Self {
+        Self {
+            name: None,
+            material: material.into(),
+            particles_per_cell: default_ppc(),
+            velocity: [0.0; 2],
+            initial_stress: default_initial_stress(),
+            k0: None,
+            region: crate::geometry::rectangle::table(min, max),
+        }
+    }
+
+    /// Makes the body the rectangle `min..max`.
+    pub fn set_rectangle(&mut self, min: [f64; 2], max: [f64; 2]) {
+        self.region = crate::geometry::rectangle::table(min, max);
+    }
 }
+
 fn default_ppc() -> u32 {
     2
 }
@@ -291,9 +349,11 @@ impl Config {
             if !(1..=8).contains(&b.particles_per_cell) {
                 return Err(format!("bodies[{i}].particles_per_cell must be 1..8 (got {})", b.particles_per_cell));
             }
+            let region = crate::geometry::build(&format!("bodies[{i}]"), &b.region)?;
+            let (lo, hi) = region.bounding_box();
             for d in 0..2 {
-                if !(b.min[d] < b.max[d]) || b.min[d] < g.origin[d] - tol || b.max[d] > g.origin[d] + g.extent[d] + tol {
-                    return Err(format!("bodies[{i}]: rectangle {:?}..{:?} must lie inside the grid", b.min, b.max));
+                if lo[d] < g.origin[d] - tol || hi[d] > g.origin[d] + g.extent[d] + tol {
+                    return Err(format!("bodies[{i}]: {} {lo:?}..{hi:?} must lie inside the grid", region.shape()));
                 }
             }
         }

@@ -78,6 +78,72 @@ impl GridGeometry {
     }
 }
 
+/// An inclusive box of grid nodes: columns `columns[0] ..= columns[1]`, rows
+/// `rows[0] ..= rows[1]`; empty when a lower bound exceeds its upper bound ([`NodeBox::EMPTY`]).
+/// A scheme reports the box of each particle's stencil (it may be larger than the entries
+/// need); the solver grows the boxes of its lanes from them, so that clearing and summing the
+/// nodal buffers costs in proportion to the region the particles reach.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NodeBox {
+    pub columns: [u32; 2],
+    pub rows: [u32; 2],
+}
+
+impl Default for NodeBox {
+    fn default() -> Self {
+        Self::EMPTY
+    }
+}
+
+impl NodeBox {
+    pub const EMPTY: Self = Self { columns: [u32::MAX, 0], rows: [u32::MAX, 0] };
+
+    /// The nodes of the cell with lower-left node `cell`, the cell clamped to the grid's cells.
+    #[inline(always)]
+    pub fn of_cell(grid: &GridGeometry, cell: [i32; 2]) -> Self {
+        let i = cell[0].clamp(0, grid.cells[0] as i32 - 1) as u32;
+        let j = cell[1].clamp(0, grid.cells[1] as i32 - 1) as u32;
+        Self { columns: [i, (i + 1).min(grid.cells[0] as u32)], rows: [j, (j + 1).min(grid.cells[1] as u32)] }
+    }
+
+    /// The smallest box containing both.
+    #[inline(always)]
+    pub fn union(self, other: Self) -> Self {
+        Self {
+            columns: [self.columns[0].min(other.columns[0]), self.columns[1].max(other.columns[1])],
+            rows: [self.rows[0].min(other.rows[0]), self.rows[1].max(other.rows[1])],
+        }
+    }
+
+    #[inline(always)]
+    pub fn is_empty(&self) -> bool {
+        self.columns[0] > self.columns[1] || self.rows[0] > self.rows[1]
+    }
+
+    /// Rows of the box as (first row, number of rows), for `skip`/`take` over row chunks.
+    #[inline(always)]
+    pub fn row_span(&self) -> (usize, usize) {
+        if self.is_empty() {
+            (0, 0)
+        } else {
+            (self.rows[0] as usize, (self.rows[1] - self.rows[0]) as usize + 1)
+        }
+    }
+
+    /// Rows of the box as node-row indices (empty range for an empty box is the caller's
+    /// concern: test [`NodeBox::is_empty`] first).
+    #[inline(always)]
+    pub fn row_range(&self) -> std::ops::RangeInclusive<usize> {
+        self.rows[0] as usize..=self.rows[1] as usize
+    }
+
+    /// Columns of the box, clipped to a grid row of `nodes_x` nodes.
+    #[inline(always)]
+    pub fn column_span(&self, nodes_x: usize) -> std::ops::RangeInclusive<usize> {
+        self.columns[0] as usize..=(self.columns[1] as usize).min(nodes_x - 1)
+    }
+}
+
 /// Nodal fields of one step.
 #[derive(Clone, Debug)]
 pub struct GridFields {

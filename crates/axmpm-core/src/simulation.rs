@@ -3,14 +3,14 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::boundary::Constraints;
+use crate::constraint::Constraints;
 use crate::config::{Config, FormulationKind, ShapeFunctionKind};
 use crate::formulation::{Axisymmetric, Formulation, PlaneStrain};
 use crate::grid::{GridFields, GridGeometry};
 use crate::material::{self, Material};
 use crate::particles::Particles;
 use crate::setup::create_particles;
-use crate::shape::{CpGimp, Cpdi2, Linear, ShapeFunction, UGimp};
+use crate::interpolation::{CpGimp, Cpdi2, Linear, ShapeFunction, UGimp};
 use crate::solver::{self, Failure, Scratch, State, StepParameters};
 
 type StepFn = fn(&mut State, f64, [f64; 2]) -> Result<(), Failure>;
@@ -62,6 +62,8 @@ pub struct Simulation {
     step_fn: StepFn,
     pool: rayon::ThreadPool,
     failure: Option<SimulationFailure>,
+    /// Time of the last [`Simulation::reactions`] call (or of the start of this object).
+    reactions_since: f64,
 }
 
 fn select_step(formulation: FormulationKind, shape: ShapeFunctionKind) -> StepFn {
@@ -127,10 +129,10 @@ impl Simulation {
             None => {
                 let particles = match s.formulation {
                     FormulationKind::PlaneStrain => {
-                        create_particles::<PlaneStrain>(&config, &grid, &materials, &material_names, stride, with_corners)
+                        create_particles::<PlaneStrain>(&config, &grid, &materials, &material_names, stride, with_corners)?
                     }
                     FormulationKind::Axisymmetric => {
-                        create_particles::<Axisymmetric>(&config, &grid, &materials, &material_names, stride, with_corners)
+                        create_particles::<Axisymmetric>(&config, &grid, &materials, &material_names, stride, with_corners)?
                     }
                 };
                 (particles, 0.0, 0)
@@ -159,6 +161,7 @@ impl Simulation {
             scheme: s.update_scheme,
             mass_threshold: 1e-12 * mean_mass,
             volumetric_averaging: s.volumetric_averaging,
+            axisymmetric,
         };
         let constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         let mut state = State {
@@ -189,7 +192,8 @@ impl Simulation {
             .build()
             .map_err(|e| format!("could not start {threads} threads: {e}"))?;
         let step_fn = select_step(s.formulation, s.shape_function);
-        Ok(Self { config, state, material_names, state_names, dt, step_fn, pool, failure: None })
+        let reactions_since = state.time;
+        Ok(Self { config, state, material_names, state_names, dt, step_fn, pool, failure: None, reactions_since })
     }
 
     /// Gravity at the current time: ramped linearly from zero over `gravity_ramp_time`.
@@ -312,6 +316,38 @@ impl Simulation {
         out
     }
 
+    /// Multiplier from per-radian (axisymmetric) or per-metre (plane strain) sums to the
+    /// reported totals: 2π for the body of revolution, 1 per metre thickness.
+    pub fn total_factor(&self) -> f64 {
+        match self.config.simulation.formulation {
+            FormulationKind::PlaneStrain => PlaneStrain::TOTAL_FACTOR,
+            FormulationKind::Axisymmetric => Axisymmetric::TOTAL_FACTOR,
+        }
+    }
+
+    /// Names of the constraints whose reactions [`Simulation::reactions`] reports, in order:
+    /// the faces that are not free ("left", "right", "bottom", "top"), then the walls
+    /// ("wall_0", "wall_1", ... by their index in the scenario).
+    pub fn reaction_names(&self) -> Vec<String> {
+        self.state.constraints.reaction_names()
+    }
+
+    /// Per reporting constraint, the mean force (N; whole body: × 2π in axisymmetry, per metre
+    /// in plane strain) the material exerted on it since the last call: the impulse of the
+    /// momentum-update corrections, Σ m_i (v⁺_before − v⁺_after), over the elapsed time.
+    /// Resets the accumulators; zero forces when no time has elapsed.
+    pub fn reactions(&mut self) -> Vec<(String, [f64; 2])> {
+        let elapsed = self.state.time - self.reactions_since;
+        self.reactions_since = self.state.time;
+        let scale = if elapsed > 0.0 { self.total_factor() / elapsed } else { 0.0 };
+        self.state
+            .constraints
+            .take_impulses()
+            .into_iter()
+            .map(|(name, impulse)| (name, [impulse[0] * scale, impulse[1] * scale]))
+            .collect()
+    }
+
     /// Kinetic energy and work of gravity, summed in particle order (deterministic).
     pub fn energies(&self) -> Energies {
         let p = &self.state.particles;
@@ -324,10 +360,7 @@ impl Simulation {
             let x0 = p.initial_position[i];
             e.gravity_work += p.mass[i] * (g[0] * (x[0] - x0[0]) + g[1] * (x[1] - x0[1]));
         }
-        let total = match self.config.simulation.formulation {
-            FormulationKind::PlaneStrain => PlaneStrain::TOTAL_FACTOR,
-            FormulationKind::Axisymmetric => Axisymmetric::TOTAL_FACTOR,
-        };
+        let total = self.total_factor();
         e.kinetic_energy *= total;
         e.gravity_work *= total;
         e

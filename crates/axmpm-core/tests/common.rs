@@ -5,18 +5,7 @@ use axmpm_core::config::*;
 use std::collections::BTreeMap;
 
 pub fn material(model: &str, density: f64, e: f64, nu: f64) -> MaterialConfig {
-    MaterialConfig {
-        model: model.into(),
-        density,
-        youngs_modulus: e,
-        poisson_ratio: nu,
-        friction_angle: None,
-        dilation_angle: None,
-        cohesion: None,
-        tension_cutoff: None,
-        recompaction: None,
-        extra: Default::default(),
-    }
+    MaterialConfig::elastic(model, density, e, nu)
 }
 
 /// A block of `material` in a grid of `cells` × `cells` cells of size 0.1, no boundary conditions.
@@ -46,17 +35,7 @@ pub fn block(
         },
         grid: GridConfig { origin: [0.0, 0.0], extent: [2.0, 2.0], cell_size: 0.1 },
         materials,
-        bodies: vec![BodyConfig {
-            name: None,
-            material: "m".into(),
-            shape: "rectangle".into(),
-            min: [0.6, 0.6],
-            max: [1.0, 1.2],
-            particles_per_cell: 2,
-            velocity,
-            initial_stress: InitialStress::Zero,
-            k0: None,
-        }],
+        bodies: vec![BodyConfig { velocity, ..BodyConfig::rectangle("m", [0.6, 0.6], [1.0, 1.2]) }],
         boundaries: BoundariesConfig::default(),
         walls: vec![],
         extra: Default::default(),

@@ -83,7 +83,7 @@ fn results_do_not_depend_on_thread_count_and_checkpoints_resume_bit_for_bit() {
     for s in ALL_SHAPES {
         let mut cfg = block(FormulationKind::Axisymmetric, s, [0.0, -9.81], [0.2, 0.0]);
         cfg.boundaries.bottom = BoundaryCondition::friction(0.3);
-        cfg.bodies[0].min = [0.0, 0.0];
+        cfg.bodies[0].set_rectangle([0.0, 0.0], [1.0, 1.2]);
         // Runs stop at output times (here 0.05 and 0.1); checkpoints are written there.
         let run = |threads: usize| {
             let mut sim = Simulation::new(cfg.clone(), threads).unwrap();

@@ -13,11 +13,10 @@ use common::*;
 fn cylinder(shape: ShapeFunctionKind) -> Config {
     let (radius, height, h) = (0.2, 1.0, 0.05);
     let mut cfg = block(FormulationKind::Axisymmetric, shape, [0.0, -10.0], [0.0, 0.0]);
-    cfg.materials.get_mut("m").unwrap().poisson_ratio = 0.3;
-    cfg.materials.get_mut("m").unwrap().youngs_modulus = 1e7; // ρ g H / E = 1e-3: small strain
+    // ρ g H / E = 1e-3: small strain.
+    cfg.materials.get_mut("m").unwrap().set("poisson_ratio", 0.3).set("youngs_modulus", 1e7);
     cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [radius + 4.0 * h, height + 2.0 * h], cell_size: h };
-    cfg.bodies[0].min = [0.0, 0.0];
-    cfg.bodies[0].max = [radius, height];
+    cfg.bodies[0].set_rectangle([0.0, 0.0], [radius, height]);
     cfg.boundaries.bottom = BoundaryCondition::ROLLER;
     cfg.simulation.gravity_ramp_time = 0.3;
     cfg.simulation.damping = 0.3;

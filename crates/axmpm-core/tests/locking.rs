@@ -21,12 +21,9 @@ const HEIGHT: f64 = 1.0;
 fn cylinder(shape: ShapeFunctionKind, formulation: FormulationKind, averaging: VolumetricAveraging) -> Config {
     let (radius, h) = (0.2, 0.05);
     let mut cfg = block(formulation, shape, [0.0, -G], [0.0, 0.0]);
-    let m = cfg.materials.get_mut("m").unwrap();
-    m.poisson_ratio = NU;
-    m.youngs_modulus = E;
+    cfg.materials.get_mut("m").unwrap().set("poisson_ratio", NU).set("youngs_modulus", E);
     cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [radius + 4.0 * h, HEIGHT + 2.0 * h], cell_size: h };
-    cfg.bodies[0].min = [0.0, 0.0];
-    cfg.bodies[0].max = [radius, HEIGHT];
+    cfg.bodies[0].set_rectangle([0.0, 0.0], [radius, HEIGHT]);
     cfg.boundaries.bottom = BoundaryCondition::ROLLER;
     if formulation == FormulationKind::PlaneStrain {
         cfg.boundaries.left = BoundaryCondition::ROLLER;
@@ -76,7 +73,7 @@ fn cell_averaging_is_independent_of_the_thread_count() {
     for shape in ALL_SHAPES {
         let mut cfg = block(FormulationKind::Axisymmetric, shape, [0.0, -9.81], [0.2, 0.0]);
         cfg.boundaries.bottom = BoundaryCondition::friction(0.3);
-        cfg.bodies[0].min = [0.0, 0.0];
+        cfg.bodies[0].set_rectangle([0.0, 0.0], [1.0, 1.2]);
         cfg.simulation.volumetric_averaging = VolumetricAveraging::Cell;
         let run = |threads: usize| {
             let mut sim = Simulation::new(cfg.clone(), threads).unwrap();

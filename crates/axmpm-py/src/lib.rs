@@ -148,6 +148,17 @@ impl PySimulation {
         d.set_item("gravity_work", e.gravity_work)?;
         Ok(d)
     }
+    /// Per reporting constraint (faces that are not free: "left", "right", "bottom", "top";
+    /// walls: "wall_0", ...), the mean force (N; axisymmetric: the whole body, × 2π; plane
+    /// strain: per metre) the material exerted on it since the last call:
+    /// [(name, force_x, force_y), ...]. Resets the accumulators.
+    fn reactions(&mut self) -> Vec<(String, f64, f64)> {
+        self.inner.reactions().into_iter().map(|(name, f)| (name, f[0], f[1])).collect()
+    }
+    /// Names `reactions()` reports, in order.
+    fn reaction_names(&self) -> Vec<String> {
+        self.inner.reaction_names()
+    }
     /// Wall seconds spent in each phase of the step since construction:
     /// {"particle_to_grid", "grid_update", "grid_to_particle", "constitutive_update"}.
     fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
@@ -213,11 +224,23 @@ fn material_response<'py>(
     Ok((stresses.into_pyarray(py).reshape([steps, 4])?, states.into_pyarray(py).reshape([steps, k])?, names))
 }
 
+/// catalogue() -> {"formulations", "interpolation_schemes", "material_models", "region_shapes"}:
+/// the names the engine accepts, each a list, from the engine's registries.
+#[pyfunction]
+fn catalogue(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = PyDict::new(py);
+    for (key, names) in axmpm_core::catalogue() {
+        d.set_item(key, names)?;
+    }
+    Ok(d)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add("SimulationFailure", m.py().get_type::<SimulationFailure>())?;
     m.add_function(wrap_pyfunction!(material_response, m)?)?;
+    m.add_function(wrap_pyfunction!(catalogue, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -1,18 +1,44 @@
-//! Velocity constraints on grid nodes.
+//! Everything that corrects nodal velocities: the grid faces, the symmetry axis, straight rigid
+//! walls (later rigid bodies and contact), behind one [`Constraint`] trait.
 //!
-//! LOCAL COPY of the trait fixed in INTERFACES.md (branch `ssi`, issue #13): the layout issue
-//! (#12, branch rust-layout) owns this file; at the merge its version is taken and only the
-//! `rigid_body` module line is added to it.
+//! The solver applies every constraint, in a fixed order (faces, axis, walls, then rigid
+//! bodies), to the start-of-step velocities, to the velocities of the momentum update v⁺
+//! (`record = true`: the correction of v⁺ is the physical one, and the momentum it removes
+//! is the impulse the material exerts on the constraint) and, with MUSL, to the re-mapped
+//! velocities. Each constraint that reports a reaction accumulates that impulse,
+//! Σ_nodes m_i (v_before − v_after) per radian or per metre, until [`Constraint::take_impulse`].
+//!
+//! Node conditions of faces and walls (docs/physics.md; Bardenhagen et al. 2001 for friction):
+//! - `roller`: normal velocity zero (bilateral), tangential free;
+//! - `fixed`: both components zero;
+//! - `friction`: no penetration (unilateral) with Coulomb friction: when the node moves into
+//!   the wall with normal speed v_n > 0, v_n is removed and the tangential speed is reduced by
+//!   μ v_n (never reversed); a node moving away is free.
+//!
+//! A face or wall acts on every node on its line and on the nodes beyond it (outside the
+//! material side), so particle domains that reach past a wall (GIMP, CPDI) cannot drag
+//! material through it. In axisymmetry the axis r = 0 is always a roller (v_r = 0).
 
+use crate::config::{BoundariesConfig, Condition, WallConfig};
 use crate::grid::GridGeometry;
 
+pub mod axis;
+pub mod face;
 pub mod rigid_body;
+pub mod wall;
+
+pub use axis::SymmetryAxis;
+pub use face::GridFace;
+pub use rigid_body::RigidBody;
+pub use wall::Wall;
 
 /// What a constraint may read when it corrects nodal velocities.
 pub struct NodalContext<'a> {
     pub grid: &'a GridGeometry,
-    pub mass: &'a [f64], // nodal mass (per radian or per metre)
-    pub time: f64,       // time at the start of the step
+    /// Nodal mass (per radian or per metre).
+    pub mass: &'a [f64],
+    /// Time at the start of the step, s.
+    pub time: f64,
     pub dt: f64,
     pub axisymmetric: bool,
 }
@@ -32,5 +58,237 @@ pub trait Constraint: Send + Sync {
     /// Whether the constraint's reaction is reported in the history (faces/walls/rigid bodies).
     fn reports_reaction(&self) -> bool {
         true
+    }
+}
+
+/// The velocity condition of a straight face or wall at one node.
+#[derive(Clone, Copy, Debug)]
+pub struct NodeCondition {
+    /// Component normal to the wall (0: x/r, 1: y/z).
+    pub axis: u8,
+    /// +1 when the wall lies on the positive side of the material (outward normal +axis).
+    pub outward: f64,
+    pub condition: Condition,
+    /// Coulomb friction coefficient μ (friction only).
+    pub coefficient: f64,
+}
+
+impl NodeCondition {
+    /// Corrects one nodal velocity (module doc).
+    #[inline(always)]
+    pub fn correct(&self, v: &mut [f64; 2]) {
+        let a = self.axis as usize;
+        let t = 1 - a;
+        match self.condition {
+            Condition::Free => {}
+            Condition::Roller => v[a] = 0.0,
+            Condition::Fixed => *v = [0.0, 0.0],
+            Condition::Friction => {
+                let vn = v[a] * self.outward;
+                if vn > 0.0 {
+                    v[a] = 0.0;
+                    let vt = v[t];
+                    let reduced = (vt.abs() - self.coefficient * vn).max(0.0);
+                    v[t] = reduced.copysign(vt);
+                }
+            }
+        }
+    }
+
+    /// Corrects the velocities of `nodes`; with `record`, adds the momentum removed,
+    /// Σ m_i (v_before − v_after), to `impulse` (it only reads: the velocities are the same).
+    #[inline]
+    pub fn correct_nodes(
+        &self,
+        nodes: &[u32],
+        context: &NodalContext,
+        velocity: &mut [[f64; 2]],
+        record: bool,
+        impulse: &mut [f64; 2],
+    ) {
+        if record {
+            for &node in nodes {
+                let v = &mut velocity[node as usize];
+                let before = *v;
+                self.correct(v);
+                let m = context.mass[node as usize];
+                impulse[0] += m * (before[0] - v[0]);
+                impulse[1] += m * (before[1] - v[1]);
+            }
+        } else {
+            for &node in nodes {
+                self.correct(&mut velocity[node as usize]);
+            }
+        }
+    }
+}
+
+/// All constraints of a run, in the order the solver applies them.
+#[derive(Default)]
+pub struct Constraints {
+    pub list: Vec<Box<dyn Constraint>>,
+}
+
+impl Constraints {
+    /// Faces (left, right, bottom, top; only those that are not free, and in axisymmetry no
+    /// left face), the axis (axisymmetric runs), then the walls in scenario order (`wall_i`
+    /// for `walls[i]`; free walls are left out).
+    pub fn new(grid: &GridGeometry, faces: &BoundariesConfig, walls: &[WallConfig], axisymmetric: bool) -> Self {
+        let mut list: Vec<Box<dyn Constraint>> = Vec::new();
+        for face in GridFace::all(grid, faces, axisymmetric) {
+            list.push(Box::new(face));
+        }
+        if axisymmetric {
+            list.push(Box::new(SymmetryAxis::new(grid)));
+        }
+        for (i, wall) in walls.iter().enumerate() {
+            if let Some(w) = Wall::new(format!("wall_{i}"), grid, wall) {
+                list.push(Box::new(w));
+            }
+        }
+        Self { list }
+    }
+
+    /// Adds a constraint after the others (rigid bodies come last).
+    pub fn push(&mut self, constraint: Box<dyn Constraint>) {
+        self.list.push(constraint);
+    }
+
+    /// Applies every constraint, in order, to a nodal velocity field.
+    pub fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
+        for c in &mut self.list {
+            c.apply(context, velocity, record);
+        }
+    }
+
+    /// Names of the constraints that report a reaction, in order.
+    pub fn reaction_names(&self) -> Vec<String> {
+        self.list.iter().filter(|c| c.reports_reaction()).map(|c| c.name().to_string()).collect()
+    }
+
+    /// Per reporting constraint, the impulse since the last call (N·s per radian or per
+    /// metre), resetting the accumulators.
+    pub fn take_impulses(&mut self) -> Vec<(String, [f64; 2])> {
+        self.list
+            .iter_mut()
+            .filter(|c| c.reports_reaction())
+            .map(|c| (c.name().to_string(), c.take_impulse()))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::{Axis, BoundaryCondition, Side};
+
+    fn base(condition: Condition, mu: f64) -> NodeCondition {
+        NodeCondition { axis: 1, outward: -1.0, condition, coefficient: mu }
+    }
+
+    fn context<'a>(grid: &'a GridGeometry, mass: &'a [f64], time: f64) -> NodalContext<'a> {
+        NodalContext { grid, mass, time, dt: 1e-3, axisymmetric: false }
+    }
+
+    #[test]
+    fn friction_base_by_hand() {
+        // Base (outward normal −y). Moving down at 1 m/s and sideways at 2 m/s with μ = 0.5:
+        // normal removed, tangential 2 − 0.5·1 = 1.5.
+        let mut v = [2.0, -1.0];
+        base(Condition::Friction, 0.5).correct(&mut v);
+        assert_eq!(v, [1.5, 0.0]);
+        // Sliding stops, never reverses.
+        let mut v = [-0.2, -1.0];
+        base(Condition::Friction, 0.5).correct(&mut v);
+        assert_eq!(v, [0.0, 0.0]);
+        // Leaving the wall: untouched.
+        let mut v = [2.0, 1.0];
+        base(Condition::Friction, 0.5).correct(&mut v);
+        assert_eq!(v, [2.0, 1.0]);
+    }
+
+    #[test]
+    fn friction_reduction_is_mu_times_the_normal_speed() {
+        // v_n ≠ 1 tells μ v_n from μ / v_n: down at 4 m/s, sideways at −3 m/s, μ = 0.25:
+        // tangential −(3 − 0.25·4) = −2 (a reduction of μ/v_n = 0.0625 would leave −2.9375).
+        let mut v = [-3.0, -4.0];
+        base(Condition::Friction, 0.25).correct(&mut v);
+        assert_eq!(v, [-2.0, 0.0]);
+        // Slow approach, v_n = 0.5 (μ/v_n = 1 would stop the node): 1 − 0.5·0.5 = 0.75.
+        let mut v = [1.0, -0.5];
+        base(Condition::Friction, 0.5).correct(&mut v);
+        assert_eq!(v, [0.75, 0.0]);
+        // A right wall (outward +x): v_n = 2 into it, tangential 1.5 − 0.5·2 = 0.5.
+        let mut v = [2.0, 1.5];
+        NodeCondition { axis: 0, outward: 1.0, condition: Condition::Friction, coefficient: 0.5 }.correct(&mut v);
+        assert_eq!(v, [0.0, 0.5]);
+    }
+
+    #[test]
+    fn roller_and_fixed() {
+        let mut v = [2.0, -1.0];
+        base(Condition::Roller, 0.0).correct(&mut v);
+        assert_eq!(v, [2.0, 0.0]);
+        base(Condition::Fixed, 0.0).correct(&mut v);
+        assert_eq!(v, [0.0, 0.0]);
+    }
+
+    #[test]
+    fn axis_is_a_roller_and_walls_reach_beyond_their_line() {
+        let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let faces = BoundariesConfig::default();
+        let wall = WallConfig {
+            axis: Axis::X,
+            position: 0.5,
+            material_side: Side::Negative,
+            condition: Condition::Roller,
+            coefficient: 0.0,
+            removal_time: Some(0.1),
+        };
+        let mut cs = Constraints::new(&g, &faces, &[wall], true);
+        assert_eq!(cs.list.len(), 2);
+        assert_eq!(cs.reaction_names(), vec!["wall_0".to_string()]);
+        let mass = vec![1.0; g.num_nodes()];
+        let mut v = vec![[1.0, 1.0]; g.num_nodes()];
+        cs.apply(&context(&g, &mass, 0.0), &mut v, false);
+        assert_eq!(v[g.node_index(0, 2)], [0.0, 1.0]);
+        assert_eq!(v[g.node_index(1, 2)], [1.0, 1.0]);
+        // 3 columns (x = 0.5, 0.75, 1.0) of 5 nodes.
+        for i in 2..5 {
+            for j in 0..5 {
+                assert_eq!(v[g.node_index(i, j)], [0.0, 1.0]);
+            }
+        }
+        let mut v = vec![[1.0, 1.0]; g.num_nodes()];
+        cs.apply(&context(&g, &mass, 0.2), &mut v, false); // wall removed, axis stays
+        assert_eq!(v[g.node_index(2, 2)], [1.0, 1.0]);
+        assert_eq!(v[g.node_index(0, 2)], [0.0, 1.0]);
+    }
+
+    #[test]
+    fn faces_report_the_momentum_they_remove_only_when_recording() {
+        let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.5);
+        let faces = BoundariesConfig {
+            left: BoundaryCondition::ROLLER,
+            bottom: BoundaryCondition::friction(0.5),
+            ..Default::default()
+        };
+        let mut cs = Constraints::new(&g, &faces, &[], false);
+        assert_eq!(cs.reaction_names(), vec!["left".to_string(), "bottom".to_string()]);
+        let mass: Vec<f64> = (0..g.num_nodes()).map(|n| 1.0 + n as f64).collect();
+        let mut v = vec![[2.0, -1.0]; g.num_nodes()];
+        cs.apply(&context(&g, &mass, 0.0), &mut v, false);
+        assert!(cs.take_impulses().iter().all(|(_, j)| *j == [0.0; 2]));
+        let mut v = vec![[2.0, -1.0]; g.num_nodes()];
+        cs.apply(&context(&g, &mass, 0.0), &mut v, true);
+        let reactions = cs.take_impulses();
+        // Left face, nodes 0, 3, 6 (masses 1, 4, 7): v_x 2 → 0, except node 0, which the left
+        // face corrects first: 2 m/s of each.
+        assert_eq!(reactions[0], ("left".to_string(), [2.0 * (1.0 + 4.0 + 7.0), 0.0]));
+        // Bottom nodes 0, 1, 2 (masses 1, 2, 3): v_y −1 → 0, v_x 2 → 1.5 (nodes 1, 2) and 0 → 0
+        // (node 0, already stopped by the left face).
+        assert_eq!(reactions[1], ("bottom".to_string(), [0.5 * (2.0 + 3.0), -(1.0 + 2.0 + 3.0)]));
+        // Taken: zero until the next recording.
+        assert!(cs.take_impulses().iter().all(|(_, j)| *j == [0.0; 2]));
     }
 }

@@ -1,12 +1,18 @@
-//! Regions of the (x, y) / (r, z) plane that bodies and rigid bodies occupy.
+//! Body geometry: regions of the plane that a body fills with particles, behind one
+//! [`Region`] trait, registered by the name a body's `shape = "..."` selects.
 //!
-//! LOCAL COPY of the trait fixed in INTERFACES.md (branch `ssi`, issue #13): the layout issue
-//! (#12, branch rust-layout) owns this file; at the merge its version is taken and only the
-//! polygon's registry line is added to it.
+//! Adding a shape = one new file implementing [`Region`] (with a `build` that parses the
+//! shape's own keys) plus one line in [`SHAPES`].
 
+use serde_json::{Map, Value};
+
+pub mod fill;
 pub mod polygon;
+pub mod rectangle;
 
+pub use fill::lattice_points;
 pub use polygon::Polygon;
+pub use rectangle::Rectangle;
 
 pub trait Region: Send + Sync + std::fmt::Debug {
     /// Registry name, the scenario's `shape = "..."`.
@@ -26,24 +32,63 @@ pub trait Region: Send + Sync + std::fmt::Debug {
     fn translated(&self, offset: [f64; 2]) -> Box<dyn Region>;
 }
 
-type Builder = fn(&str, &serde_json::Map<String, serde_json::Value>) -> Result<Box<dyn Region>, String>;
+/// Builds a region from the keys of a body table (`context` names the table in errors).
+pub type RegionBuilder = fn(context: &str, table: &Map<String, Value>) -> Result<Box<dyn Region>, String>;
 
-/// One line per shape.
-const SHAPES: &[(&str, Builder)] = &[("polygon", polygon::build)];
+/// The shapes a body may have: name → builder. One line per shape.
+pub const SHAPES: &[(&str, RegionBuilder)] = &[("rectangle", rectangle::build), ("polygon", polygon::build)];
+
+/// Shape of a body table without a `shape` key.
+pub const DEFAULT_SHAPE: &str = "rectangle";
+
+/// Names of the registered shapes, in registry order.
+pub fn shape_names() -> Vec<&'static str> {
+    SHAPES.iter().map(|(name, _)| *name).collect()
+}
 
 /// Builds a region from a body table (keys `shape` plus the shape's own keys, e.g.
 /// rectangle: `min`, `max`; polygon: `vertices`); errors name `{context}.{key}`.
-pub fn build(context: &str, table: &serde_json::Map<String, serde_json::Value>) -> Result<Box<dyn Region>, String> {
+pub fn build(context: &str, table: &Map<String, Value>) -> Result<Box<dyn Region>, String> {
     let shape = match table.get("shape") {
-        Some(serde_json::Value::String(s)) => s.as_str(),
+        None | Some(Value::Null) => DEFAULT_SHAPE,
+        Some(Value::String(s)) => s.as_str(),
         Some(other) => return Err(format!("{context}.shape: must be a string (got {other})")),
-        None => return Err(format!("{context}.shape: is required")),
     };
     match SHAPES.iter().find(|(name, _)| *name == shape) {
         Some((_, builder)) => builder(context, table),
-        None => {
-            let known: Vec<&str> = SHAPES.iter().map(|(n, _)| *n).collect();
-            Err(format!("{context}.shape: unknown shape '{shape}' (known: {})", known.join(", ")))
-        }
+        None => Err(format!("{context}.shape: unknown shape '{shape}' (known: {})", shape_names().join(", "))),
+    }
+}
+
+/// Reads a point `[x, y]` (m) under `key`.
+pub fn point(context: &str, table: &Map<String, Value>, key: &str) -> Result<[f64; 2], String> {
+    let value = table.get(key).ok_or_else(|| format!("{context}.{key}: required"))?;
+    let coordinates = value.as_array().filter(|a| a.len() == 2).and_then(|a| Some([a[0].as_f64()?, a[1].as_f64()?]));
+    match coordinates {
+        Some(p) if p.iter().all(|c| c.is_finite()) => Ok(p),
+        _ => Err(format!("{context}.{key}: must be a point [x, y] of finite numbers (got {value})")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn table(v: Value) -> Map<String, Value> {
+        v.as_object().unwrap().clone()
+    }
+
+    #[test]
+    fn build_selects_by_shape_and_names_keys_in_errors() {
+        let r = build("bodies[0]", &table(json!({"min": [0.0, 0.1], "max": [0.2, 0.4]}))).unwrap();
+        assert_eq!(r.shape(), "rectangle");
+        assert_eq!(r.bounding_box(), ([0.0, 0.1], [0.2, 0.4]));
+        let err = build("bodies[1]", &table(json!({"shape": "circle", "min": [0.0, 0.0]}))).unwrap_err();
+        assert_eq!(err, "bodies[1].shape: unknown shape 'circle' (known: rectangle, polygon)");
+        let err = build("bodies[0]", &table(json!({"shape": "rectangle", "min": [0.0], "max": [1.0, 1.0]}))).unwrap_err();
+        assert!(err.starts_with("bodies[0].min: must be a point"), "{err}");
+        let err = build("bodies[0]", &table(json!({"max": [1.0, 1.0]}))).unwrap_err();
+        assert_eq!(err, "bodies[0].min: required");
     }
 }

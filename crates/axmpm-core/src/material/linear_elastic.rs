@@ -1,8 +1,7 @@
 //! Hypoelastic isotropic linear elasticity with the Jaumann stress rate:
 //! σ̇ = λ tr(D) I + 2μ D + W σ − σ W (objective for large rotations).
 
-use super::{jaumann_rotation, lame, p_wave_speed, rate_of_deformation, Kinematics, Material};
-use crate::config::MaterialConfig;
+use super::{jaumann_rotation, lame, p_wave_speed, rate_of_deformation, Kinematics, Material, Parameters};
 use crate::particles::Stress;
 
 #[derive(Clone, Debug)]
@@ -20,8 +19,9 @@ impl LinearElastic {
         Self { density, youngs_modulus, poisson_ratio, lambda, mu }
     }
 
-    pub fn from_config(c: &MaterialConfig) -> Self {
-        Self::new(c.density, c.youngs_modulus, c.poisson_ratio)
+    /// From the `density`, `youngs_modulus` and `poisson_ratio` of a material table.
+    pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
+        Ok(Self::new(p.f64("density")?, p.f64("youngs_modulus")?, p.f64("poisson_ratio")?))
     }
 
     /// Elastic stress increment λ tr(dε) I + 2μ dε for a strain increment `[11, 22, 33, 12]`
@@ -36,6 +36,11 @@ impl LinearElastic {
             2.0 * self.mu * de[3],
         ]
     }
+}
+
+/// The registry's builder ([`super::MODELS`]).
+pub fn build(p: &Parameters) -> Result<Box<dyn Material>, String> {
+    Ok(Box::new(LinearElastic::from_parameters(p)?))
 }
 
 impl Material for LinearElastic {

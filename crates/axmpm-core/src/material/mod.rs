@@ -1,7 +1,12 @@
 //! Constitutive models behind one trait, registered by the name a scenario's `model` selects.
 //!
-//! Adding a model = one new file implementing [`Material`] plus one line in [`build`].
+//! Adding a model = one new file implementing [`Material`], with a `build` that reads the
+//! model's parameters through [`Parameters`], plus one line in [`MODELS`].
 //! Stress is Cauchy, `[σ11, σ22, σ33, σ12]` (σ33 = out-of-plane or hoop), tension positive.
+
+use std::fmt::Display;
+
+use serde_json::{Map, Value};
 
 use crate::config::MaterialConfig;
 use crate::particles::{DeformationGradient, Stress};
@@ -10,6 +15,8 @@ pub mod linear_elastic;
 pub mod mohr_coulomb;
 pub mod mu_i;
 pub mod neo_hookean;
+#[cfg(test)]
+pub mod testing;
 
 pub use linear_elastic::LinearElastic;
 pub use mohr_coulomb::MohrCoulomb;
@@ -75,21 +82,132 @@ pub fn jaumann_rotation(stress: &Stress, spin12: f64, dt: f64) -> Stress {
     [2.0 * w * stress[3], -2.0 * w * stress[3], 0.0, w * (stress[1] - stress[0])]
 }
 
-/// Builds a material from its configuration.
-pub fn build(name: &str, config: &MaterialConfig) -> Result<Box<dyn Material>, String> {
-    match config.model.as_str() {
-        "linear_elastic" => Ok(Box::new(LinearElastic::from_config(config))),
-        "neo_hookean" => Ok(Box::new(NeoHookean::from_config(config))),
-        // An `inertial_friction_angle` makes the friction angle follow μ(I) (mu_i.rs).
-        "mohr_coulomb" => {
-            let base = MohrCoulomb::from_config(config)?;
-            Ok(match InertialMohrCoulomb::from_config(config, &base)? {
-                Some(m) => Box::new(m) as Box<dyn Material>,
-                None => Box::new(base),
-            })
+/// The parameter table of one material (`materials.NAME`), read by its model. Absent keys and
+/// JSON `null` both count as "not given"; keys a model does not read are ignored (the front
+/// end has already rejected unknown keys).
+#[derive(Clone, Copy, Debug)]
+pub struct Parameters<'a> {
+    name: &'a str,
+    table: &'a Map<String, Value>,
+}
+
+impl<'a> Parameters<'a> {
+    pub fn new(name: &'a str, table: &'a Map<String, Value>) -> Self {
+        Self { name, table }
+    }
+
+    /// The material's name (`materials.NAME`).
+    pub fn name(&self) -> &str {
+        self.name
+    }
+
+    /// A required number.
+    pub fn f64(&self, key: &str) -> Result<f64, String> {
+        self.optional_f64(key)?.ok_or_else(|| self.error(key, "required"))
+    }
+
+    /// A number, `default` when not given.
+    pub fn f64_or(&self, key: &str, default: f64) -> Result<f64, String> {
+        Ok(self.optional_f64(key)?.unwrap_or(default))
+    }
+
+    /// A number, `None` when not given.
+    pub fn optional_f64(&self, key: &str) -> Result<Option<f64>, String> {
+        match self.table.get(key) {
+            None | Some(Value::Null) => Ok(None),
+            Some(v) => v.as_f64().map(Some).ok_or_else(|| self.error(key, format!("must be a number (got {v})"))),
         }
-        other => Err(format!(
-            "materials.{name}.model: unknown model '{other}' (known: linear_elastic, neo_hookean, mohr_coulomb)"
+    }
+
+    /// A boolean, `default` when not given.
+    pub fn bool_or(&self, key: &str, default: bool) -> Result<bool, String> {
+        match self.table.get(key) {
+            None | Some(Value::Null) => Ok(default),
+            Some(v) => v.as_bool().ok_or_else(|| self.error(key, format!("must be true or false (got {v})"))),
+        }
+    }
+
+    /// An error message naming the key: `materials.NAME.KEY: message`.
+    pub fn error(&self, key: &str, message: impl Display) -> String {
+        format!("materials.{}.{key}: {message}", self.name)
+    }
+}
+
+/// Builds a model from its parameters.
+pub type ModelBuilder = fn(&Parameters) -> Result<Box<dyn Material>, String>;
+
+/// The constitutive models: `model` name → builder. One line per model.
+pub const MODELS: &[(&str, ModelBuilder)] = &[
+    ("linear_elastic", linear_elastic::build),
+    ("neo_hookean", neo_hookean::build),
+    // An `inertial_friction_angle` makes the friction angle follow μ(I) (mu_i.rs).
+    ("mohr_coulomb", mohr_coulomb::build),
+];
+
+/// Names of the registered models, in registry order.
+pub fn model_names() -> Vec<&'static str> {
+    MODELS.iter().map(|(name, _)| *name).collect()
+}
+
+/// Builds material `name` from its configuration.
+pub fn build(name: &str, config: &MaterialConfig) -> Result<Box<dyn Material>, String> {
+    let parameters = Parameters::new(name, &config.parameters);
+    match MODELS.iter().find(|(model, _)| *model == config.model) {
+        Some((_, builder)) => builder(&parameters),
+        None => Err(parameters.error(
+            "model",
+            format!("unknown model '{}' (known: {})", config.model, model_names().join(", ")),
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn parameters_read_numbers_defaults_and_name_the_key_in_errors() {
+        let table = json!({"density": 1550, "poisson_ratio": 0.3, "cohesion": null, "flag": true, "bad": "x"});
+        let p = Parameters::new("sand", table.as_object().unwrap());
+        assert_eq!(p.f64("density"), Ok(1550.0));
+        assert_eq!(p.f64("youngs_modulus"), Err("materials.sand.youngs_modulus: required".to_string()));
+        assert_eq!(p.f64_or("cohesion", 5.0), Ok(5.0));
+        assert_eq!(p.optional_f64("cohesion"), Ok(None));
+        assert_eq!(p.optional_f64("poisson_ratio"), Ok(Some(0.3)));
+        assert_eq!(p.bool_or("flag", false), Ok(true));
+        assert_eq!(p.bool_or("other", false), Ok(false));
+        assert_eq!(p.f64("bad"), Err("materials.sand.bad: must be a number (got \"x\")".to_string()));
+        assert!(p.bool_or("density", false).unwrap_err().starts_with("materials.sand.density: must be true or false"));
+    }
+
+    #[test]
+    fn every_model_is_built_by_its_registered_name_and_unknown_ones_list_the_known() {
+        let mut config = MaterialConfig::elastic("x", 1550.0, 1e6, 0.3);
+        config.set("friction_angle", 30.0);
+        for name in model_names() {
+            config.model = name.into();
+            let m = build("sand", &config).unwrap();
+            assert_eq!(m.model(), name);
+            assert_eq!(m.density(), 1550.0);
+        }
+        config.model = "cam_clay".into();
+        assert_eq!(
+            build("sand", &config).err().unwrap(),
+            "materials.sand.model: unknown model 'cam_clay' (known: linear_elastic, neo_hookean, mohr_coulomb)"
+        );
+    }
+
+    #[test]
+    fn material_config_keeps_the_json_shape() {
+        let text = r#"{"model": "mohr_coulomb", "density": 1550.0, "youngs_modulus": 1e6, "poisson_ratio": 0.3,
+            "friction_angle": 30.0, "dilation_angle": null, "recompaction": true}"#;
+        let config: MaterialConfig = serde_json::from_str(text).unwrap();
+        assert_eq!(config.model, "mohr_coulomb");
+        assert_eq!(config.parameters["friction_angle"], json!(30.0));
+        assert!(!config.parameters.contains_key("model"));
+        let again: MaterialConfig = serde_json::from_str(&serde_json::to_string(&config).unwrap()).unwrap();
+        assert_eq!(again.parameters, config.parameters);
+        assert_eq!(build("sand", &config).unwrap().state_names().len(), 3);
     }
 }

@@ -1,5 +1,5 @@
 //! Mohr–Coulomb elasto-plasticity with non-associated flow and a tension cut-off
-//! (PHYSICS.md §5), integrated with the principal-stress return of
+//! (docs/physics.md §5), integrated with the principal-stress return of
 //! Clausen, Damkilde & Andersen:
 //!
 //! * J. Clausen, L. Damkilde, L. Andersen (2006), *Efficient return algorithms for associated
@@ -75,7 +75,7 @@
 //! 1. Mohr–Coulomb return as above, if f(σ_B) > 0; accepted if σ1 ≤ σ_t.
 //! 2. Rankine return (Clausen et al. 2006): plane σ1 = σ_t,
 //!    σ_C = σ_B − (σ_B1 − σ_t)/(λ + 2μ) · (λ + 2μ, λ, λ); if then σ_C2 > σ_t (σ2 would exceed the
-//!    cut-off, the PHYSICS.md pitfall) the edge σ1 = σ2 = σ_t with σ_C3 = σ_B3 − ν (σ_B1 + σ_B2 − 2σ_t);
+//!    cut-off, the docs/physics.md §5 pitfall) the edge σ1 = σ2 = σ_t with σ_C3 = σ_B3 − ν (σ_B1 + σ_B2 − 2σ_t);
 //!    if also σ_C3 > σ_t the corner σ_t (1, 1, 1). Accepted if f(σ_C) ≤ 0.
 //! 3. The Mohr–Coulomb/tension edge σ1 = σ_t, σ3 = kσ_t − 2c√k, whose return (span of D b and
 //!    D e1, normal C e2) gives σ_C2 = σ_B2 − ν (σ_B1 − σ_t + σ_B3 − σ_C3); if σ_C2 > σ_t the corner
@@ -170,8 +170,8 @@
 //! granular material (c = 0, where the cut-off is clamped to the apex and only apex returns
 //! occur). Off (the default), the update is bit for bit the one without this option.
 
-use super::{jaumann_rotation, lame, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material};
-use crate::config::MaterialConfig;
+use super::mu_i::InertialMohrCoulomb;
+use super::{jaumann_rotation, lame, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
 use crate::particles::Stress;
 
 /// `recompaction` when a scenario does not set it.
@@ -264,7 +264,7 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 }
 
 impl MohrCoulomb {
-    /// Angles in degrees. Preconditions (checked by [`MohrCoulomb::from_config`]):
+    /// Angles in degrees. Preconditions (checked by [`MohrCoulomb::from_parameters`]):
     /// 0 ≤ φ < 90 (φ = 0 only with c > 0: Tresca), 0 ≤ ψ ≤ φ, c ≥ 0, σ_t ≥ 0 (∞ = no cut-off),
     /// E > 0, −1 < ν < 0.5.
     pub fn new(
@@ -356,42 +356,51 @@ impl MohrCoulomb {
         self
     }
 
-    pub fn from_config(c: &MaterialConfig) -> Result<Self, String> {
-        let phi = c.friction_angle.ok_or("friction_angle is required for mohr_coulomb")?;
+    /// From a material table: the elastic keys, `friction_angle` (required; 0 = Tresca, then
+    /// `cohesion` > 0), `dilation_angle`, `cohesion`, `tension_cutoff` (default 0; none for
+    /// Tresca) and `recompaction`.
+    pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
+        let phi = p.optional_f64("friction_angle")?.ok_or_else(|| p.error("friction_angle", "is required for mohr_coulomb"))?;
         if !(phi >= 0.0 && phi < 90.0) {
-            return Err(format!("friction_angle must be in [0, 90) degrees for mohr_coulomb (got {phi})"));
+            return Err(p.error("friction_angle", format!("must be in [0, 90) degrees for mohr_coulomb (got {phi})")));
         }
-        let psi = c.dilation_angle.unwrap_or(0.0);
+        let psi = p.f64_or("dilation_angle", 0.0)?;
         if !(psi >= 0.0 && psi <= phi) {
-            return Err(format!(
-                "dilation_angle must be in [0, friction_angle] = [0, {phi}] degrees for mohr_coulomb (got {psi})"
+            return Err(p.error(
+                "dilation_angle",
+                format!("must be in [0, friction_angle] = [0, {phi}] degrees for mohr_coulomb (got {psi})"),
             ));
         }
-        let coh = c.cohesion.unwrap_or(0.0);
+        let coh = p.f64_or("cohesion", 0.0)?;
         if !(coh >= 0.0 && coh.is_finite()) {
-            return Err(format!("cohesion must be >= 0 for mohr_coulomb (got {coh})"));
+            return Err(p.error("cohesion", format!("must be >= 0 for mohr_coulomb (got {coh})")));
         }
         if phi == 0.0 && !(coh > 0.0) {
-            return Err(format!(
-                "friction_angle = 0 (Tresca) needs cohesion > 0 for mohr_coulomb (got cohesion = {coh})"
+            return Err(p.error(
+                "friction_angle",
+                format!("= 0 (Tresca) needs cohesion > 0 for mohr_coulomb (got cohesion = {coh})"),
             ));
         }
         // Tresca (undrained, total stress): no cut-off unless one is given (module doc).
-        let st = c.tension_cutoff.unwrap_or(if phi == 0.0 { f64::INFINITY } else { 0.0 });
-        if !(st >= 0.0 && (st.is_finite() || c.tension_cutoff.is_none())) {
-            return Err(format!("tension_cutoff must be >= 0 for mohr_coulomb (got {st})"));
+        let given = p.optional_f64("tension_cutoff")?;
+        let st = given.unwrap_or(if phi == 0.0 { f64::INFINITY } else { 0.0 });
+        if !(st >= 0.0 && (st.is_finite() || given.is_none())) {
+            return Err(p.error("tension_cutoff", format!("must be >= 0 for mohr_coulomb (got {st})")));
         }
-        if !(c.youngs_modulus > 0.0 && c.youngs_modulus.is_finite()) {
-            return Err(format!("youngs_modulus must be > 0 for mohr_coulomb (got {})", c.youngs_modulus));
+        let youngs_modulus = p.f64("youngs_modulus")?;
+        if !(youngs_modulus > 0.0 && youngs_modulus.is_finite()) {
+            return Err(p.error("youngs_modulus", format!("must be > 0 for mohr_coulomb (got {youngs_modulus})")));
         }
-        if !(c.poisson_ratio > -1.0 && c.poisson_ratio < 0.5) {
-            return Err(format!("poisson_ratio must be in (-1, 0.5) for mohr_coulomb (got {})", c.poisson_ratio));
+        let poisson_ratio = p.f64("poisson_ratio")?;
+        if !(poisson_ratio > -1.0 && poisson_ratio < 0.5) {
+            return Err(p.error("poisson_ratio", format!("must be in (-1, 0.5) for mohr_coulomb (got {poisson_ratio})")));
         }
-        if !(c.density > 0.0 && c.density.is_finite()) {
-            return Err(format!("density must be > 0 for mohr_coulomb (got {})", c.density));
+        let density = p.f64("density")?;
+        if !(density > 0.0 && density.is_finite()) {
+            return Err(p.error("density", format!("must be > 0 for mohr_coulomb (got {density})")));
         }
-        Ok(Self::new(c.density, c.youngs_modulus, c.poisson_ratio, phi, psi, coh, st)
-            .with_recompaction(c.recompaction.unwrap_or(RECOMPACTION_DEFAULT)))
+        Ok(Self::new(density, youngs_modulus, poisson_ratio, phi, psi, coh, st)
+            .with_recompaction(p.bool_or("recompaction", RECOMPACTION_DEFAULT)?))
     }
 
     /// Mohr–Coulomb yield function f = k σ1 − σ3 − 2c√k of sorted principal stresses.
@@ -606,6 +615,16 @@ impl MohrCoulomb {
     }
 }
 
+/// The registry's builder ([`super::MODELS`]): rate-independent Mohr–Coulomb, or its μ(I)
+/// variant ([`InertialMohrCoulomb`]) when the table has an `inertial_friction_angle`.
+pub fn build(p: &Parameters) -> Result<Box<dyn Material>, String> {
+    let base = MohrCoulomb::from_parameters(p)?;
+    Ok(match InertialMohrCoulomb::from_parameters(p, &base)? {
+        Some(m) => Box::new(m),
+        None => Box::new(base),
+    })
+}
+
 impl Material for MohrCoulomb {
     fn model(&self) -> &'static str {
         "mohr_coulomb"
@@ -651,6 +670,9 @@ impl Material for MohrCoulomb {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::material::testing::{
+        drive, elastic_compliance, elastic_stiffness, kinematics, principal_stresses, random_sorted, solve, Lcg,
+    };
 
     const E: f64 = 50e6;
     const NU: f64 = 0.3;
@@ -660,18 +682,15 @@ mod tests {
     }
 
     fn kin(l: [f64; 5], dt: f64) -> Kinematics {
-        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, dt }
+        kinematics(l, dt)
     }
 
     fn stiff(v: [f64; 3]) -> [f64; 3] {
-        let (l, m) = lame(E, NU);
-        let t = l * (v[0] + v[1] + v[2]);
-        [t + 2.0 * m * v[0], t + 2.0 * m * v[1], t + 2.0 * m * v[2]]
+        elastic_stiffness(E, NU, v)
     }
 
     fn comply(v: [f64; 3]) -> [f64; 3] {
-        let s = NU * (v[0] + v[1] + v[2]);
-        [((1.0 + NU) * v[0] - s) / E, ((1.0 + NU) * v[1] - s) / E, ((1.0 + NU) * v[2] - s) / E]
+        elastic_compliance(E, NU, v)
     }
 
     fn kk(phi: f64) -> f64 {
@@ -707,57 +726,8 @@ mod tests {
         s[0].abs() + s[1].abs() + s[2].abs() + m.two_c_sqrt_k + 1.0
     }
 
-    /// Small dense solve (Gaussian elimination with partial pivoting).
-    fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-        let n = b.len();
-        for c in 0..n {
-            let p = (c..n).max_by(|&i, &j| a[i][c].abs().partial_cmp(&a[j][c].abs()).unwrap())?;
-            if a[p][c].abs() < 1e-300 {
-                return None;
-            }
-            a.swap(c, p);
-            b.swap(c, p);
-            for r in 0..n {
-                if r != c {
-                    let f = a[r][c] / a[c][c];
-                    let pivot = a[c].clone();
-                    for (x, y) in a[r].iter_mut().zip(&pivot) {
-                        *x -= f * y;
-                    }
-                    b[r] -= f * b[c];
-                }
-            }
-        }
-        Some((0..n).map(|i| b[i] / a[i][i]).collect())
-    }
-
-    /// Non-negative multipliers λ with C (σ_B − σ_C) = Σ λ_i g_i for some subset of `g`
-    /// (exact fit to `tol` relative); returns the smallest residual found among non-negative fits.
     fn flow_rule_holds(trial: &[f64; 3], ret: &[f64; 3], g: &[[f64; 3]]) -> bool {
-        let v = comply([trial[0] - ret[0], trial[1] - ret[1], trial[2] - ret[2]]);
-        let vn = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        let n = g.len();
-        for mask in 1u32..(1 << n) {
-            let idx: Vec<usize> = (0..n).filter(|i| mask & (1 << i) != 0).collect();
-            if idx.len() > 3 {
-                continue;
-            }
-            let a: Vec<Vec<f64>> = idx.iter().map(|&i| idx.iter().map(|&j| dot(&g[i], &g[j])).collect()).collect();
-            let b: Vec<f64> = idx.iter().map(|&i| dot(&g[i], &v)).collect();
-            if let Some(l) = solve(a, b) {
-                let mut r = v;
-                for (q, &i) in idx.iter().enumerate() {
-                    for c in 0..3 {
-                        r[c] -= l[q] * g[i][c];
-                    }
-                }
-                let rn = (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]).sqrt();
-                if rn <= 1e-9 * vn && l.iter().all(|&x| x >= -1e-9 * vn) {
-                    return true;
-                }
-            }
-        }
-        false
+        super::super::testing::flow_rule_holds(comply, trial, ret, g)
     }
 
     fn active_flows(region: ReturnRegion, psi: f64) -> Vec<[f64; 3]> {
@@ -941,25 +911,6 @@ mod tests {
         }
     }
 
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
-
-    fn random_sorted(rng: &mut Lcg, lo: f64, hi: f64) -> [f64; 3] {
-        let mut v = [lo + (hi - lo) * rng.next(), lo + (hi - lo) * rng.next(), lo + (hi - lo) * rng.next()];
-        v.sort_by(|a, b| b.partial_cmp(a).unwrap());
-        if rng.next() < 0.1 {
-            v[1] = v[0];
-        } else if rng.next() < 0.1 {
-            v[2] = v[1];
-        }
-        v
-    }
-
     /// Test 2 (sweep): for random trial stresses in every region and several parameter sets, the
     /// return is sorted, admissible, on the surface, and obeys the flow rule of the region it
     /// names (non-negative multipliers; corners of non-associated flow excepted).
@@ -1100,14 +1051,6 @@ mod tests {
         t
     }
 
-    fn principal_full(s: &Stress) -> [f64; 3] {
-        let c = 0.5 * (s[0] + s[1]);
-        let r = (0.5 * (s[0] - s[1])).hypot(s[3]);
-        let mut v = [c + r, c - r, s[2]];
-        v.sort_by(|a, b| b.partial_cmp(a).unwrap());
-        v
-    }
-
     /// Test 3: ψ = 0 returns from the plane region are isochoric: tr(C (σ_trial − σ)) = 0.
     #[test]
     fn zero_dilation_plane_return_has_no_plastic_volume_change() {
@@ -1120,7 +1063,7 @@ mod tests {
         ] {
             let k = kin(l, 1.0);
             let trial = trial_of(&s0, &k);
-            let (_, region) = m.return_principal(&principal_full(&trial));
+            let (_, region) = m.return_principal(&principal_stresses(&trial));
             assert_eq!(region, ReturnRegion::Plane, "{trial:?}");
             let mut s = s0;
             let mut state = [0.0, 0.0];
@@ -1162,14 +1105,14 @@ mod tests {
             let omega = std::f64::consts::FRAC_PI_2;
             for _ in 0..steps {
                 m.update_stress(&mut s, &mut state, &kin([0.0, -omega, omega, 0.0, 0.0], 1.0 / steps as f64));
-                let pr = principal_full(&s);
+                let pr = principal_stresses(&s);
                 assert!(m.yield_function(&pr) <= 1e-9 * s3.abs());
             }
             let (p1, j1) = inv(&s);
             assert!((p1 - p0).abs() <= 1e-3 * p0.abs(), "p {p0} -> {p1}");
             assert!((j1 - j0).abs() <= 1e-3 * j0, "J2 {j0} -> {j1}");
             assert!((s[2] - s2).abs() <= 1e-3 * s2.abs());
-            let pr = principal_full(&s);
+            let pr = principal_stresses(&s);
             assert!(m.yield_function(&pr).abs() <= 1e-3 * s3.abs(), "left the surface: {pr:?}");
             // A quarter turn swaps the normal components and flips the shear.
             assert!(
@@ -1235,7 +1178,7 @@ mod tests {
             let mut state = [0.25, -0.5, 0.0];
             m.update_stress(&mut a, &mut state, &k);
             le.update_stress(&mut b, &mut [], &k);
-            assert!(m.yield_function(&principal_full(&a)) < 0.0);
+            assert!(m.yield_function(&principal_stresses(&a)) < 0.0);
             assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
             assert_eq!(state, [0.25, -0.5, 0.0]);
             n += 1;
@@ -1257,7 +1200,7 @@ mod tests {
             let l = [0u8; 5].map(|_| 6e-3 * (rng.next() - 0.5));
             let kn = kin(l, 1.0);
             let trial = trial_of(&s0, &kn);
-            let (_, region) = m.return_principal(&principal_full(&trial));
+            let (_, region) = m.return_principal(&principal_stresses(&trial));
             if region != ReturnRegion::Plane {
                 continue;
             }
@@ -1320,8 +1263,8 @@ mod tests {
                 let trial = trial_of(&s0, &kn);
                 let mut s = s0;
                 m.update_stress(&mut s, &mut [0.0, 0.0], &kn);
-                let pt = principal_full(&trial);
-                let ps = principal_full(&s);
+                let pt = principal_stresses(&trial);
+                let ps = principal_stresses(&s);
                 let (want, _) = m.return_principal(&pt);
                 let sc = scale(&pt, &m);
                 for i in 0..3 {
@@ -1346,57 +1289,69 @@ mod tests {
 
     #[test]
     fn config_is_validated_with_key_names() {
-        let base = MaterialConfig {
-            model: "mohr_coulomb".into(),
-            density: 1550.0,
-            youngs_modulus: 1e6,
-            poisson_ratio: 0.3,
-            friction_angle: Some(30.0),
-            dilation_angle: None,
-            cohesion: None,
-            tension_cutoff: None,
-            recompaction: None,
-            extra: Default::default(),
+        use crate::config::MaterialConfig;
+        let mut base = MaterialConfig::elastic("mohr_coulomb", 1550.0, 1e6, 0.3);
+        base.set("friction_angle", 30.0);
+        let from = |c: &MaterialConfig| {
+            let table = c.parameters.clone();
+            MohrCoulomb::from_parameters(&Parameters::new("sand", &table))
         };
-        let m = MohrCoulomb::from_config(&base).unwrap();
+        let m = from(&base).unwrap();
         assert_eq!(m.model(), "mohr_coulomb");
         assert_eq!(m.recompaction, RECOMPACTION_DEFAULT);
         let names = ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain"];
         assert_eq!(m.state_names(), if RECOMPACTION_DEFAULT { &names[..] } else { &names[..2] });
         for (flag, n) in [(false, 2), (true, 3)] {
-            let c = MaterialConfig { recompaction: Some(flag), ..base.clone() };
-            let m = MohrCoulomb::from_config(&c).unwrap();
+            let mut c = base.clone();
+            c.set("recompaction", flag);
+            let m = from(&c).unwrap();
             assert_eq!((m.recompaction, m.state_names()), (flag, &names[..n]));
             assert_eq!(super::super::build("sand", &c).unwrap().state_names().len(), n);
         }
         assert_eq!((m.dilation_angle, m.cohesion, m.tension_cutoff), (0.0, 0.0, 0.0));
         assert!((m.wave_speed() - p_wave_speed(1e6, 0.3, 1550.0)).abs() < 1e-12);
         assert!(super::super::build("sand", &base).is_ok());
-        let err = |f: &dyn Fn(&mut MaterialConfig)| {
+        let err = |key: &str, value: serde_json::Value| {
             let mut c = base.clone();
-            f(&mut c);
-            MohrCoulomb::from_config(&c).err().unwrap()
+            c.set(key, value);
+            from(&c).err().unwrap()
         };
-        assert!(err(&|c| c.friction_angle = None).contains("friction_angle is required"));
-        assert!(err(&|c| c.friction_angle = Some(90.0)).contains("friction_angle"));
+        assert_eq!(
+            err("friction_angle", serde_json::Value::Null),
+            "materials.sand.friction_angle: is required for mohr_coulomb"
+        );
+        for (key, value) in [
+            ("friction_angle", 90.0),
+            ("friction_angle", -1.0),
+            ("dilation_angle", 31.0),
+            ("dilation_angle", -1.0),
+            ("cohesion", -1.0),
+            ("tension_cutoff", -1.0),
+            ("poisson_ratio", 0.5),
+            ("youngs_modulus", 0.0),
+            ("density", 0.0),
+        ] {
+            let e = err(key, value.into());
+            assert!(e.starts_with(&format!("materials.sand.{key}: must be")), "{e}");
+        }
+        assert_eq!(err("recompaction", 1.into()), "materials.sand.recompaction: must be true or false (got 1)");
         // φ = 0 is Tresca: needs c > 0, forces ψ = 0, and has no tension cut-off by default.
-        assert!(err(&|c| c.friction_angle = Some(0.0)).contains("cohesion > 0"));
-        assert!(err(&|c| c.friction_angle = Some(-1.0)).contains("friction_angle"));
-        let tresca = MaterialConfig { friction_angle: Some(0.0), cohesion: Some(10e3), ..base.clone() };
-        let t = MohrCoulomb::from_config(&tresca).unwrap();
+        assert_eq!(
+            err("friction_angle", 0.0.into()),
+            "materials.sand.friction_angle: = 0 (Tresca) needs cohesion > 0 for mohr_coulomb (got cohesion = 0)"
+        );
+        let mut tresca = base.clone();
+        tresca.set("friction_angle", 0.0);
+        tresca.set("cohesion", 10e3);
+        let t = from(&tresca).unwrap();
         assert!(t.tension_cutoff == f64::INFINITY && !t.cutoff && !t.has_apex);
-        let t = MohrCoulomb::from_config(&MaterialConfig { tension_cutoff: Some(2e3), ..tresca.clone() }).unwrap();
+        let mut with_cut = tresca.clone();
+        with_cut.set("tension_cutoff", 2e3);
+        let t = from(&with_cut).unwrap();
         assert!(t.cutoff && t.sigma_t == 2e3);
-        assert!(MohrCoulomb::from_config(&MaterialConfig { dilation_angle: Some(1.0), ..tresca.clone() })
-            .err()
-            .unwrap()
-            .contains("dilation_angle"));
-        assert!(err(&|c| c.dilation_angle = Some(31.0)).contains("dilation_angle"));
-        assert!(err(&|c| c.dilation_angle = Some(-1.0)).contains("dilation_angle"));
-        assert!(err(&|c| c.cohesion = Some(-1.0)).contains("cohesion"));
-        assert!(err(&|c| c.tension_cutoff = Some(-1.0)).contains("tension_cutoff"));
-        assert!(err(&|c| c.poisson_ratio = 0.5).contains("poisson_ratio"));
-        assert!(err(&|c| c.youngs_modulus = 0.0).contains("youngs_modulus"));
+        let mut dilating = tresca.clone();
+        dilating.set("dilation_angle", 1.0);
+        assert!(from(&dilating).err().unwrap().starts_with("materials.sand.dilation_angle: must be"));
     }
 
     // ------------------------------------------------------------------ re-compaction
@@ -1407,13 +1362,6 @@ mod tests {
 
     fn bulk_modulus() -> f64 {
         E / (3.0 * (1.0 - 2.0 * NU))
-    }
-
-    /// Drives `steps` steps of velocity gradient `l` (dt = 1).
-    fn drive(m: &MohrCoulomb, s: &mut Stress, state: &mut [f64], l: [f64; 5], steps: usize) {
-        for _ in 0..steps {
-            m.update_stress(s, state, &kin(l, 1.0));
-        }
     }
 
     /// (φ, ψ, c, σ_t): cohesionless with ψ = 0 and ψ > 0, cohesive with and without a cut-off.
@@ -1609,7 +1557,7 @@ mod tests {
             let s0 = [-150e3 * rng.next(), -150e3 * rng.next(), -150e3 * rng.next(), 60e3 * (rng.next() - 0.5)];
             let l = [0u8; 5].map(|_| 6e-3 * (rng.next() - 0.5));
             let kn = kin(l, 1.0);
-            let (_, region) = m.return_principal(&principal_full(&trial_of(&s0, &kn)));
+            let (_, region) = m.return_principal(&principal_stresses(&trial_of(&s0, &kn)));
             if !matches!(region, ReturnRegion::Plane | ReturnRegion::EdgeCompression | ReturnRegion::EdgeExtension) {
                 continue;
             }
@@ -1635,7 +1583,7 @@ mod tests {
         let mut regions = Vec::new();
         for _ in 0..100 {
             let kn = kin([1e-5, 0.0, 0.0, 0.0, 0.0], 1.0);
-            regions.push(m.return_principal(&principal_full(&trial_of(&s, &kn))).1);
+            regions.push(m.return_principal(&principal_stresses(&trial_of(&s, &kn))).1);
             m.update_stress(&mut s, &mut state, &kn);
         }
         assert!(regions.contains(&ReturnRegion::TensionPlane), "{regions:?}");

@@ -45,8 +45,7 @@
 //! (capped at [`INERTIAL_NUMBER_CAP`] where P ≤ 0, so that output files hold finite numbers).
 
 use super::mohr_coulomb::MohrCoulomb;
-use super::{rate_of_deformation, Kinematics, Material};
-use crate::config::MaterialConfig;
+use super::{rate_of_deformation, Kinematics, Material, Parameters};
 use crate::particles::Stress;
 
 /// Inertial number stored for material without pressure (P ≤ 0): μ = μ₂ there.
@@ -91,38 +90,37 @@ impl InertialMohrCoulomb {
         }
     }
 
-    /// The μ(I) variant of a `mohr_coulomb` configuration, or `None` when it has no
+    /// The μ(I) variant of a `mohr_coulomb` table, or `None` when it has no
     /// `inertial_friction_angle` (rate-independent Mohr–Coulomb).
-    pub fn from_config(c: &MaterialConfig, base: &MohrCoulomb) -> Result<Option<Self>, String> {
-        let number = |key: &str| -> Result<Option<f64>, String> {
-            match c.extra.get(key) {
-                None | Some(serde_json::Value::Null) => Ok(None),
-                Some(v) => v.as_f64().map(Some).ok_or_else(|| format!("{key} must be a number (got {v})")),
-            }
-        };
-        let Some(phi2) = number("inertial_friction_angle")? else {
+    pub fn from_parameters(p: &Parameters, base: &MohrCoulomb) -> Result<Option<Self>, String> {
+        let Some(phi2) = p.optional_f64("inertial_friction_angle")? else {
             return Ok(None);
         };
         let phi = base.friction_angle;
         if phi == 0.0 {
-            return Err("inertial_friction_angle needs a static friction_angle > 0 (not Tresca)".into());
+            return Err(p.error("inertial_friction_angle", "needs a static friction_angle > 0 (not Tresca, friction_angle = 0)"));
         }
         if !(phi2 >= phi && phi2 < 90.0) {
-            return Err(format!(
-                "inertial_friction_angle must be in [friction_angle, 90) = [{phi}, 90) degrees (got {phi2})"
+            return Err(p.error(
+                "inertial_friction_angle",
+                format!("must be in [friction_angle, 90) = [{phi}, 90) degrees (got {phi2})"),
             ));
         }
-        let i0 = number("inertial_number_scale")?.unwrap_or(INERTIAL_NUMBER_SCALE_DEFAULT);
+        let i0 = p.f64_or("inertial_number_scale", INERTIAL_NUMBER_SCALE_DEFAULT)?;
         if !(i0 > 0.0 && i0.is_finite()) {
-            return Err(format!("inertial_number_scale must be > 0 (got {i0})"));
+            return Err(p.error("inertial_number_scale", format!("must be > 0 (got {i0})")));
         }
-        let d = number("grain_diameter")?.ok_or("grain_diameter is required with inertial_friction_angle")?;
+        let d = p
+            .optional_f64("grain_diameter")?
+            .ok_or_else(|| p.error("grain_diameter", "is required with inertial_friction_angle"))?;
         if !(d > 0.0 && d.is_finite()) {
-            return Err(format!("grain_diameter must be > 0 m (got {d})"));
+            return Err(p.error("grain_diameter", format!("must be > 0 m (got {d})")));
         }
-        let rho_s = number("grain_density")?.ok_or("grain_density is required with inertial_friction_angle")?;
+        let rho_s = p
+            .optional_f64("grain_density")?
+            .ok_or_else(|| p.error("grain_density", "is required with inertial_friction_angle"))?;
         if !(rho_s > 0.0 && rho_s.is_finite()) {
-            return Err(format!("grain_density must be > 0 kg/m³ (got {rho_s})"));
+            return Err(p.error("grain_density", format!("must be > 0 kg/m³ (got {rho_s})")));
         }
         Ok(Some(Self::new(base.clone(), phi2, i0, d, rho_s)))
     }
@@ -294,30 +292,28 @@ mod tests {
 
     #[test]
     fn config_selects_and_checks_the_law() {
-        let mut c = MaterialConfig {
-            model: "mohr_coulomb".into(),
-            density: 1550.0,
-            youngs_modulus: 1e6,
-            poisson_ratio: 0.3,
-            friction_angle: Some(22.0),
-            dilation_angle: None,
-            cohesion: None,
-            tension_cutoff: None,
-            recompaction: None,
-            extra: Default::default(),
+        use crate::config::MaterialConfig;
+        let mut c = MaterialConfig::elastic("mohr_coulomb", 1550.0, 1e6, 0.3);
+        c.set("friction_angle", 22.0);
+        let params = |c: &MaterialConfig| c.parameters.clone();
+        let table = params(&c);
+        let base = MohrCoulomb::from_parameters(&Parameters::new("sand", &table)).unwrap();
+        let select = |c: &MaterialConfig| {
+            let table = params(c);
+            InertialMohrCoulomb::from_parameters(&Parameters::new("sand", &table), &base)
         };
-        let base = MohrCoulomb::from_config(&c).unwrap();
-        assert!(InertialMohrCoulomb::from_config(&c, &base).unwrap().is_none());
-        c.extra.insert("inertial_friction_angle".into(), serde_json::json!(38.0));
-        let err = InertialMohrCoulomb::from_config(&c, &base).unwrap_err();
-        assert!(err.contains("grain_diameter"), "{err}");
-        c.extra.insert("grain_diameter".into(), serde_json::json!(1e-3));
-        c.extra.insert("grain_density".into(), serde_json::json!(2500.0));
-        let m = InertialMohrCoulomb::from_config(&c, &base).unwrap().unwrap();
+        assert!(select(&c).unwrap().is_none());
+        c.set("inertial_friction_angle", 38.0);
+        let err = select(&c).unwrap_err();
+        assert_eq!(err, "materials.sand.grain_diameter: is required with inertial_friction_angle");
+        c.set("grain_diameter", 1e-3).set("grain_density", 2500.0);
+        let m = select(&c).unwrap().unwrap();
         assert_eq!(m.inertial_number_scale, INERTIAL_NUMBER_SCALE_DEFAULT);
         assert_eq!(m.state_names(), &STATE_NAMES[..]);
-        c.extra.insert("inertial_friction_angle".into(), serde_json::json!(20.0));
-        let err = InertialMohrCoulomb::from_config(&c, &base).unwrap_err();
-        assert!(err.contains("[22, 90)"), "{err}");
+        // The registry builds the μ(I) variant under the `mohr_coulomb` name.
+        assert_eq!(crate::material::build("sand", &c).unwrap().state_names(), &STATE_NAMES[..]);
+        c.set("inertial_friction_angle", 20.0);
+        let err = select(&c).unwrap_err();
+        assert!(err.starts_with("materials.sand.inertial_friction_angle: ") && err.contains("[22, 90)"), "{err}");
     }
 }

@@ -1,9 +1,8 @@
-//! Compressible neo-Hookean hyperelasticity (PHYSICS.md §4):
+//! Compressible neo-Hookean hyperelasticity (docs/physics.md §4):
 //! σ = (1/J) [μ (b − I) + λ ln J I], b = F Fᵀ, J = det F.
 //! Stress depends on F alone, so it is objective and path independent.
 
-use super::{lame, p_wave_speed, Kinematics, Material};
-use crate::config::MaterialConfig;
+use super::{lame, p_wave_speed, Kinematics, Material, Parameters};
 use crate::particles::{DeformationGradient, Stress};
 
 #[derive(Clone, Debug)]
@@ -21,8 +20,9 @@ impl NeoHookean {
         Self { density, youngs_modulus, poisson_ratio, lambda, mu }
     }
 
-    pub fn from_config(c: &MaterialConfig) -> Self {
-        Self::new(c.density, c.youngs_modulus, c.poisson_ratio)
+    /// From the `density`, `youngs_modulus` and `poisson_ratio` of a material table.
+    pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
+        Ok(Self::new(p.f64("density")?, p.f64("youngs_modulus")?, p.f64("poisson_ratio")?))
     }
 
     /// Cauchy stress `[σ11, σ22, σ33, σ12]` for the deformation gradient `[F11, F12, F21, F22, F33]`.
@@ -40,6 +40,11 @@ impl NeoHookean {
             self.mu * b12 / j,
         ]
     }
+}
+
+/// The registry's builder ([`super::MODELS`]).
+pub fn build(p: &Parameters) -> Result<Box<dyn Material>, String> {
+    Ok(Box::new(NeoHookean::from_parameters(p)?))
 }
 
 impl Material for NeoHookean {

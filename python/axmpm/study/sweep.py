@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from .errors import RunError, ScenarioError
+from ..errors import RunError, ScenarioError
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -61,7 +61,7 @@ __all__ = [
     "write_results",
     "read_results",
     "METRIC_COLUMNS",
-    "COLLAPSE_COLUMNS",
+    "case_columns",
 ]
 
 NAME = "sweep"
@@ -80,19 +80,17 @@ METRIC_COLUMNS = [
     "kinetic_energy",
     "gravity_work",
 ]
-#: Deposit figures of a column collapse (:func:`axmpm.collapse.deposit_metrics`), ``time``
-#: renamed ``deposit_time``.
-COLLAPSE_COLUMNS = [
-    "initial_radius",
-    "initial_height",
-    "aspect_ratio",
-    "runout_radius",
-    "final_height",
-    "runout_normalised",
-    "runout_normalised_particle_edge",
-    "final_height_normalised",
-    "deposit_time",
-]
+#: Hidden row key: the case (``axmpm.cases``) whose ``metrics`` gave the row its extra columns.
+CASE_KEY = "_case"
+
+
+def case_columns(case_name: str | None) -> list[str]:
+    """The extra columns of runs matched to the case ``case_name`` (its ``sweep_columns``)."""
+    if not case_name:
+        return []
+    from ..cases import get
+
+    return list(getattr(get(case_name), "sweep_columns", ()))
 
 
 # --------------------------------------------------------------------------- values
@@ -127,7 +125,7 @@ def parse_values(text: str) -> list[Any]:
     * ``log:START:STOP:N``: N log-spaced values, both ends included, rounded to 6
       significant digits (so folder names stay short); START, STOP > 0.
     """
-    from .scenario import parse_value
+    from ..scenario import parse_value
 
     m = _RANGE.match(text)
     if m:
@@ -230,7 +228,7 @@ class RunSpec:
     data: dict[str, Any] | None = None  # raw scenario data (None when invalid)
     error: str = ""  # validation message when the combination is invalid
     resolved: dict[str, Any] | None = None  # Scenario.to_dict() when valid
-    collapse: bool = False  # looks like a column collapse: try deposit_metrics
+    case: str | None = None  # the case (axmpm.cases) the scenario matches: its metrics become columns
 
 
 def _override_text(key: str, value: Any) -> str:
@@ -239,8 +237,16 @@ def _override_text(key: str, value: Any) -> str:
     return key + "=" + tomli_w.dumps({"v": value}).partition("=")[2].strip()
 
 
-def _looks_like_collapse(resolved: dict[str, Any]) -> bool:
-    return any(w.get("removal_time") is not None for w in resolved.get("walls") or [])
+def matching_case(resolved: dict[str, Any]) -> str | None:
+    """The first registered case whose ``matches(resolved)`` is true and that has
+    ``sweep_columns`` (e.g. a column collapse: some wall has a removal time), or None."""
+    from ..cases import all_cases
+
+    for case in all_cases():
+        matches = getattr(case, "matches", None)
+        if matches is not None and getattr(case, "sweep_columns", None) and matches(resolved):
+            return case.name
+    return None
 
 
 def _validation_message(exc: ScenarioError) -> str:
@@ -255,7 +261,7 @@ def plan_runs(
 ) -> list[RunSpec]:
     """RunSpecs of ``combos`` (key → value) applied to the raw scenario data ``base``
     after the ``--set`` ``overrides``; each is validated, an invalid one carries its error."""
-    from .scenario import Scenario, apply_overrides
+    from ..scenario import Scenario, apply_overrides
 
     data0 = apply_overrides(base, list(overrides)) if overrides else base
     specs: list[RunSpec] = []
@@ -275,7 +281,7 @@ def plan_runs(
         else:
             spec.data = data
             spec.resolved = scenario.to_dict()
-            spec.collapse = _looks_like_collapse(spec.resolved)
+            spec.case = matching_case(spec.resolved)
         specs.append(spec)
     return specs
 
@@ -286,7 +292,7 @@ def plan_sweep(
     overrides: Sequence[str] = (),
 ) -> list[RunSpec]:
     """RunSpecs of the Cartesian product of ``params`` (first key varies slowest)."""
-    from .scenario import read_toml
+    from ..scenario import read_toml
 
     base = read_toml(scenario) if not isinstance(scenario, dict) else scenario
     items = list(params.items()) if isinstance(params, dict) else list(params)
@@ -308,41 +314,43 @@ def _flatten_summary(summary: dict[str, Any]) -> dict[str, Any]:
     return row
 
 
-def _collapse_metrics(run_dir: Path) -> tuple[dict[str, Any], str]:
+def _case_metrics(case_name: str, run_dir: Path) -> tuple[dict[str, Any], str]:
+    """The ``sweep_columns`` of ``case.metrics`` on a run folder (blank, with a note, on error)."""
+    from ..cases import RunSpec as CaseRun, get
+
     try:
-        from .collapse import deposit_metrics  # lazy: written alongside, may be missing
-
-        metrics = dict(deposit_metrics(run_dir))
+        case = get(case_name)
+        metrics = dict(case.metrics(CaseRun(run_dir.name, {}), run_dir))
     except Exception as exc:  # leave the columns blank, say why
-        return {}, f"deposit_metrics: {type(exc).__name__}: {exc}"
-    if "time" in metrics:
-        metrics["deposit_time"] = metrics.pop("time")
-    return {k: metrics[k] for k in COLLAPSE_COLUMNS if k in metrics}, ""
+        return {}, f"{case_name} metrics: {type(exc).__name__}: {exc}"
+    return {k: metrics[k] for k in case_columns(case_name) if k in metrics}, ""
 
 
-def metrics_of(run_dir: Path, collapse: bool) -> dict[str, Any]:
-    """The row figures of a finished run folder (summary, and deposit when ``collapse``)."""
-    return _row_from_summary(json.loads((run_dir / "summary.json").read_text()), run_dir, collapse)
+def metrics_of(run_dir: Path, case: str | None) -> dict[str, Any]:
+    """The row figures of a finished run folder (summary, and the case's metrics when ``case``)."""
+    return _row_from_summary(json.loads((run_dir / "summary.json").read_text()), run_dir, case)
 
 
-def _row_from_summary(summary: dict[str, Any], run_dir: Path, collapse: bool) -> dict[str, Any]:
-    """Status, error, the summary's figures and (for a completed collapse) the deposit."""
+def _row_from_summary(summary: dict[str, Any], run_dir: Path, case: str | None) -> dict[str, Any]:
+    """Status, error, the summary's figures and (for a completed run matching a case) the case's
+    metrics."""
     completed = summary.get("status") == "completed"
     row: dict[str, Any] = {"status": "completed" if completed else "failed",
                            "error": "" if completed else summary.get("message", "")}
     row.update(_flatten_summary(summary))
-    if collapse and completed:
-        deposit, note = _collapse_metrics(run_dir)
-        row.update(deposit)
+    if case and completed:
+        row[CASE_KEY] = case
+        values, note = _case_metrics(case, run_dir)
+        row.update(values)
         if note:
             row["metrics_note"] = note
     return row
 
 
-def run_task(data: dict[str, Any], out: str, threads: int, collapse: bool) -> dict[str, Any]:
+def run_task(data: dict[str, Any], out: str, threads: int, case: str | None) -> dict[str, Any]:
     """Run one scenario into ``out`` on a worker; never raises for a failed run."""
-    from .runner import run
-    from .scenario import Scenario
+    from ..runner import run
+    from ..scenario import Scenario
 
     out_path = Path(out)
     started = _time.perf_counter()
@@ -356,16 +364,16 @@ def run_task(data: dict[str, Any], out: str, threads: int, collapse: bool) -> di
     except Exception as exc:  # a bug or I/O problem: record it, keep the sweep going
         return {"status": "failed", "error": f"{type(exc).__name__}: {exc}",
                 "wall_seconds": _time.perf_counter() - started}
-    return _row_from_summary(summary, out_path, collapse)
+    return _row_from_summary(summary, out_path, case)
 
 
 # --------------------------------------------------------------------------- cluster
 
 
 def default_workers(threads_per_run: int = 1) -> int:
-    from .runner import default_threads
+    from .parallel import available_cores
 
-    return max(1, default_threads() // max(1, threads_per_run))
+    return max(1, available_cores() // max(1, threads_per_run))
 
 
 @contextmanager
@@ -417,7 +425,7 @@ def open_client(
 
 def _same_completed_run(run_dir: Path, resolved: dict[str, Any]) -> bool:
     """``run_dir`` holds a completed run of exactly the ``resolved`` scenario."""
-    from .scenario import Scenario
+    from ..scenario import Scenario
 
     try:
         summary = json.loads((run_dir / "summary.json").read_text())
@@ -485,7 +493,7 @@ def execute(
             rows[i] = _row(spec, {"status": "failed", "error": spec.error})
             result.invalid += 1
         elif _same_completed_run(runs_dir / spec.name, spec.resolved or {}):
-            rows[i] = _row(spec, metrics_of(runs_dir / spec.name, spec.collapse))
+            rows[i] = _row(spec, metrics_of(runs_dir / spec.name, spec.case))
             result.skipped += 1
         else:
             todo.append(i)
@@ -512,7 +520,7 @@ def execute(
         for i in todo:
             spec = specs[i]
             fut = client.submit(
-                run_task, spec.data, str(runs_dir / spec.name), int(threads_per_run), spec.collapse,
+                run_task, spec.data, str(runs_dir / spec.name), int(threads_per_run), spec.case,
                 pure=False, key=f"axmpm-{_key_token(spec.name)}-{os.urandom(4).hex()}",
             )
             futures[fut] = i
@@ -553,12 +561,12 @@ def _columns(rows: Sequence[dict[str, Any]], keys: Sequence[str]) -> list[str]:
     cols = ["run", *keys, "status", "error"]
     present = {k for r in rows for k in r}
     cols += [c for c in METRIC_COLUMNS if c in present]
-    extra = sorted(present - set(cols) - set(COLLAPSE_COLUMNS) - {"metrics_note"})
+    cases = list(dict.fromkeys(r[CASE_KEY] for r in rows if r.get(CASE_KEY)))
+    case_cols = list(dict.fromkeys(c for name in cases for c in case_columns(name)))
+    extra = sorted(present - set(cols) - set(case_cols) - {"metrics_note", CASE_KEY})
     cols += extra  # other energies, if the engine reports more
-    if any(r.get(c) not in (None, "") for r in rows for c in COLLAPSE_COLUMNS) or any(
-        "metrics_note" in r for r in rows
-    ):
-        cols += COLLAPSE_COLUMNS + ["metrics_note"]
+    if any(r.get(c) not in (None, "") for r in rows for c in case_cols) or any("metrics_note" in r for r in rows):
+        cols += case_cols + ["metrics_note"]
     return cols
 
 

@@ -18,7 +18,7 @@
 
 #[cfg(doc)]
 use super::gimp_weight;
-use super::{fast_floor, ParticleDomain, ShapeFunction, StencilBox};
+use super::{fast_floor, ParticleDomain, ShapeFunction, NodeBox};
 #[cfg(test)]
 use super::Stencil;
 use crate::grid::GridGeometry;
@@ -47,7 +47,7 @@ impl ShapeFunction for UGimp {
     }
 
     #[inline(always)]
-    fn node_box(_: &GridGeometry, cache: &GimpCache, _: &ParticleDomain) -> StencilBox {
+    fn node_box(_: &GridGeometry, cache: &GimpCache, _: &ParticleDomain) -> NodeBox {
         gimp_box(cache)
     }
 }
@@ -178,11 +178,11 @@ pub(crate) fn gimp_entries(grid: &GridGeometry, axes: &GimpCache, mut visit: imp
 
 /// The node box of the 2D stencil: the 1D node ranges of both directions.
 #[inline(always)]
-pub(crate) fn gimp_box(axes: &GimpCache) -> StencilBox {
+pub(crate) fn gimp_box(axes: &GimpCache) -> NodeBox {
     let [ax, ay] = axes;
     // An axis keeps at least one node for a particle inside the grid; `max(1)` only guards
     // the box arithmetic.
-    StencilBox {
+    NodeBox {
         columns: [ax.first, ax.first + (ax.len.max(1) - 1) as u32],
         rows: [ay.first, ay.first + (ay.len.max(1) - 1) as u32],
     }
@@ -194,16 +194,15 @@ pub(crate) fn gimp_stencil(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axi
     let mut axes = GimpCache::default();
     gimp_axes(grid, x, half, axisymmetric, &mut axes);
     out.clear();
-    let b = gimp_box(&axes);
-    (out.columns, out.rows) = (b.columns, b.rows);
+    out.node_box = gimp_box(&axes);
     gimp_entries(grid, &axes, |node, w, g| out.push(node, w, g));
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shape::testing::*;
-    use crate::shape::{gimp_weight, Linear};
+    use crate::interpolation::testing::*;
+    use crate::interpolation::{gimp_weight, Linear};
 
     /// The five-piece 1D formula of PHYSICS.md §3 (physical units) and its derivative.
     fn piecewise(xi: f64, l: f64, h: f64) -> (f64, f64) {

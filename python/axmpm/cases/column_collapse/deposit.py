@@ -1,4 +1,4 @@
-"""Granular column collapse: scenario builder and deposit analysis.
+"""Granular column collapse: the deposit analysis (profiles, runout, final height).
 
 The set-up (PHYSICS.md §6, docs/validation-sources.md): a cylinder of sand of radius R_i
 and height H_i = a R_i stands on a rough base inside a rigid cylinder wall; the wall is
@@ -60,8 +60,6 @@ __all__ = [
     "deposit_metrics",
     "profiles",
     "profile_difference",
-    "collapse_scenario",
-    "DEFAULTS",
 ]
 
 #: Fraction of a particle layer a bin must hold to count as occupied (runout rule).
@@ -333,7 +331,7 @@ def deposit_metrics(run_dir: str | Path) -> dict[str, Any]:
     ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
     ``cells_per_radius``, ``frame``, ``status``. Geometry comes from the scenario's first body.
     """
-    from .output import load_run
+    from ...output import load_run
 
     run = load_run(run_dir)
     if not run.frames:
@@ -358,7 +356,7 @@ def profile_difference(run_dir: str | Path, reference_dir: str | Path,
     converges when it shrinks, whatever rule then reads a runout off the profile."""
     from dataclasses import replace
 
-    from .output import load_run
+    from ...output import load_run
 
     runs = [load_run(run_dir), load_run(reference_dir)]
     geoms = [geometry_from_scenario(r.scenario) for r in runs]
@@ -382,7 +380,7 @@ def profiles(run_dir: str | Path, interval: float | None = None,
              method: str = "volume") -> list[dict[str, Any]]:
     """Free-surface profiles of every frame (or frames ~``interval`` apart):
     ``[{"time", "r", "h"}]`` in metres, relative to the axis and the base."""
-    from .output import load_run
+    from ...output import load_run
 
     run = load_run(run_dir)
     geom = geometry_from_scenario(run.scenario)
@@ -399,179 +397,3 @@ def profiles(run_dir: str | Path, interval: float | None = None,
         if interval is not None:
             next_t = f.time + interval
     return out
-
-
-# --------------------------------------------------------------------------- scenario builder
-
-#: Default parameters of the collapse scenarios (docs/validation.md explains each).
-DEFAULTS: dict[str, Any] = {
-    "radius": 0.03,  # m, R_i; the experiments' own radius is unconfirmed (validation-sources §2)
-    "cell_size": 0.002,  # m, as in the seed paper
-    "particles_per_cell": 2,  # per direction, as in the seed paper
-    "density": 1550.0,  # kg/m³, glass-bead bulk density ≈ 1500–1600 (PHYSICS.md §6)
-    "youngs_modulus": 1.0e6,  # Pa
-    "poisson_ratio": 0.3,
-    "friction_angle": 25.0,  # degrees
-    "dilation_angle": 0.0,  # degrees, as in the seed paper
-    "cohesion": 0.0,
-    # Separated sand re-compacts stress-free (mohr_coulomb.rs doc; docs/validation.md,
-    # "Re-compaction"); False = the seed set-up, the opened volume is permanent.
-    "recompaction": False,
-    # μ(I) friction (mu_i.rs): None = rate-independent Mohr–Coulomb at friction_angle; an
-    # angle φ₂ makes friction_angle the static angle of sin φ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I).
-    "inertial_friction_angle": None,  # degrees
-    "inertial_number_scale": 0.279,  # I₀ (Jop, Forterre & Pouliquen 2006, glass beads)
-    "grain_diameter": GRAIN_DIAMETER,  # m, d in I
-    "grain_density": 2500.0,  # kg/m³, glass (PHYSICS.md §6)
-    "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
-    "shape_function": "cpgimp",
-    "update_scheme": "musl",
-    # Pure FLIP: the PIC part of a blend removes a fixed fraction of the particles' velocity
-    # fluctuation *per step*, so its dissipation grows with the step count (stiffer E, finer
-    # mesh) and set the runout (docs/validation.md, "Why the runout moved with the mesh").
-    "flip_fraction": 1.0,
-    "release_time": 0.0,  # s, wall removal; 0 = from the geostatic state at t = 0+
-    "end_time": 1.0,  # s
-    "output_interval": 0.02,  # s, the seed paper's profile interval
-    "stop_at_rest": 1e-5,  # kinetic energy / work of gravity
-    # Undamped pure-FLIP deposits keep an elastic vibration (KE ≈ 2e-3 of the work of
-    # gravity) that never decays, so the run also stops once gravity does less than this
-    # fraction of its work in settle_window: the deposit no longer moves down.
-    "stop_when_settled": 5e-5,
-    "settle_window": 0.1,  # s
-    # Cells of grid below the base (a friction wall at z = 0 acts on them): a particle that
-    # interpolation carries a hair below the base stays on the grid instead of ending the run.
-    "cells_below_base": 2,
-    "rest_check_after": 0.1,  # s after the release
-    "formulation": "axisymmetric",
-}
-
-
-def _law_runout_guess(a: float) -> float:
-    """Lube et al. 2004 runout (R∞−R_i)/R_i, to size the grid."""
-    return 1.24 * a if a < 1.7 else 1.6 * math.sqrt(a)
-
-
-def collapse_scenario(
-    aspect_ratio: float,
-    radius: float = DEFAULTS["radius"],
-    cell_size: float = DEFAULTS["cell_size"],
-    *,
-    height: float | None = None,
-    formulation: str = DEFAULTS["formulation"],
-    particles_per_cell: int = DEFAULTS["particles_per_cell"],
-    density: float = DEFAULTS["density"],
-    youngs_modulus: float = DEFAULTS["youngs_modulus"],
-    poisson_ratio: float = DEFAULTS["poisson_ratio"],
-    friction_angle: float = DEFAULTS["friction_angle"],
-    dilation_angle: float = DEFAULTS["dilation_angle"],
-    cohesion: float = DEFAULTS["cohesion"],
-    recompaction: bool = DEFAULTS["recompaction"],
-    inertial_friction_angle: float | None = DEFAULTS["inertial_friction_angle"],
-    inertial_number_scale: float = DEFAULTS["inertial_number_scale"],
-    grain_diameter: float = DEFAULTS["grain_diameter"],
-    grain_density: float = DEFAULTS["grain_density"],
-    base_friction: float | None = DEFAULTS["base_friction"],
-    shape_function: str = DEFAULTS["shape_function"],
-    update_scheme: str = DEFAULTS["update_scheme"],
-    flip_fraction: float = DEFAULTS["flip_fraction"],
-    release_time: float = DEFAULTS["release_time"],
-    end_time: float = DEFAULTS["end_time"],
-    output_interval: float = DEFAULTS["output_interval"],
-    stop_at_rest: float = DEFAULTS["stop_at_rest"],
-    stop_when_settled: float = DEFAULTS["stop_when_settled"],
-    settle_window: float = DEFAULTS["settle_window"],
-    cells_below_base: int = DEFAULTS["cells_below_base"],
-    rest_check_after: float = DEFAULTS["rest_check_after"],
-    domain_radius: float | None = None,
-    as_dict: bool = False,
-) -> Any:
-    """A column-collapse scenario (a :class:`~axmpm.scenario.Scenario`, or its plain dict).
-
-    The column [0, R_i] × [0, H_i] starts from the geostatic stress (k0 = 1 − sin φ) inside a
-    roller wall at r = R_i that is removed at ``release_time``. Bodies must lie on grid
-    lines, so R_i and H_i = a R_i are rounded to whole cells (``height`` overrides H_i);
-    the scenario's actual aspect ratio is H_i/R_i of its body (:func:`geometry_from_scenario`).
-    """
-    from .scenario import Scenario
-
-    h = float(cell_size)
-    n_r = max(1, int(round(radius / h)))
-    H = aspect_ratio * n_r * h if height is None else float(height)
-    n_z = max(1, int(round(H / h)))
-    R_i, H_i = n_r * h, n_z * h
-    a = H_i / R_i
-    mu = math.tan(math.radians(friction_angle)) if base_friction is None else float(base_friction)
-    if domain_radius is None:
-        # Room for the thin sheet pure FLIP lets slide along the base beyond the deposit.
-        domain_radius = R_i * (2.0 + 2.5 * _law_runout_guess(a))
-    n_dr = max(n_r + 2, int(math.ceil(domain_radius / h - 1e-9)))
-    n_below = max(0, int(cells_below_base))
-    n_dz = n_z + 4 + n_below
-    data: dict[str, Any] = {
-        "simulation": {
-            "formulation": formulation,
-            "shape_function": shape_function,
-            "update_scheme": update_scheme,
-            "flip_fraction": flip_fraction,
-            "end_time": end_time,
-            "output_interval": output_interval,
-            "gravity": [0.0, -9.81],
-            "damping": 0.0,
-            "stop_at_rest": stop_at_rest,
-            "stop_when_settled": stop_when_settled,
-            "settle_window": settle_window,
-            "stop_at_rest_after": release_time + rest_check_after,
-        },
-        "grid": {"origin": [0.0, -n_below * h], "extent": [n_dr * h, n_dz * h], "cell_size": h},
-        "materials": {
-            "sand": {
-                "model": "mohr_coulomb",
-                "density": density,
-                "youngs_modulus": youngs_modulus,
-                "poisson_ratio": poisson_ratio,
-                "friction_angle": friction_angle,
-                "dilation_angle": dilation_angle,
-                "cohesion": cohesion,
-                "tension_cutoff": 0.0,
-                "recompaction": recompaction,
-                **({"inertial_friction_angle": inertial_friction_angle,
-                    "inertial_number_scale": inertial_number_scale,
-                    "grain_diameter": grain_diameter, "grain_density": grain_density}
-                   if inertial_friction_angle is not None else {}),
-            }
-        },
-        "bodies": [
-            {
-                "name": "column",
-                "material": "sand",
-                "min": [0.0, 0.0],
-                "max": [R_i, H_i],
-                "particles_per_cell": particles_per_cell,
-                "initial_stress": "geostatic",
-                "k0": 1.0 - math.sin(math.radians(friction_angle)),
-            }
-        ],
-        "boundaries": {
-            "left": {"condition": "roller"},
-            "right": {"condition": "free"},
-            "bottom": {"condition": "friction", "coefficient": mu},
-            "top": {"condition": "free"},
-        },
-        "walls": ([
-            # The base, when the grid reaches below it (else the bottom face is the base).
-            {"axis": "y", "position": 0.0, "material_side": "positive", "condition": "friction",
-             "coefficient": mu},
-        ] if n_below else []) + [
-            {
-                "axis": "x",
-                "position": R_i,
-                "material_side": "negative",
-                "condition": "roller",
-                "removal_time": release_time,
-            }
-        ],
-    }
-    if as_dict:
-        return data
-    return Scenario.from_dict(data)

@@ -1,5 +1,5 @@
 //! Interpolation schemes: the weights S_ip and gradients ∇S_ip that connect particle p to the
-//! grid nodes i (PHYSICS.md §3).
+//! grid nodes i (docs/physics.md §3).
 //!
 //! Each scheme is a zero-sized type implementing [`ShapeFunction`]; the solver is generic over
 //! it, so the inner loops are compiled once per scheme. A scheme's stencil is a short list of
@@ -13,6 +13,7 @@
 //! - in axisymmetry a particle domain never reaches r < 0: GIMP schemes shrink the radial
 //!   half-width to R_p, CPDI2 clamps corners to r ≥ 0.
 
+pub use crate::grid::NodeBox;
 use crate::grid::GridGeometry;
 use crate::particles::{DeformationGradient, Particles};
 
@@ -36,11 +37,8 @@ pub struct Stencil {
     pub node: [u32; MAX_STENCIL],
     pub weight: [f64; MAX_STENCIL],
     pub gradient: [[f64; 2]; MAX_STENCIL],
-    /// A box of grid nodes containing every entry: node columns `columns[0] ..= columns[1]`
-    /// and rows `rows[0] ..= rows[1]` (it may be larger than the entries need). Lets the
-    /// solver clear and sum only the part of a lane's nodal buffers that its particles reach.
-    pub columns: [u32; 2],
-    pub rows: [u32; 2],
+    /// A box of grid nodes containing every entry (it may be larger than the entries need).
+    pub node_box: NodeBox,
 }
 
 impl Default for Stencil {
@@ -50,8 +48,7 @@ impl Default for Stencil {
             node: [0; MAX_STENCIL],
             weight: [0.0; MAX_STENCIL],
             gradient: [[0.0; 2]; MAX_STENCIL],
-            columns: [0; 2],
-            rows: [0; 2],
+            node_box: NodeBox { columns: [0; 2], rows: [0; 2] },
         }
     }
 }
@@ -82,12 +79,6 @@ impl Stencil {
         self.node[..n].iter().zip(&self.weight[..n]).zip(&self.gradient[..n]).map(|((&node, &w), &g)| (node as usize, w, g))
     }
 
-    /// The node box of the stencil.
-    #[inline(always)]
-    pub fn node_box(&self) -> StencilBox {
-        StencilBox { columns: self.columns, rows: self.rows }
-    }
-
     /// Σ_i S_ip, 1 wherever the particle's support lies inside the grid (partition of unity).
     pub fn weight_sum(&self) -> f64 {
         self.weight[..self.len].iter().sum()
@@ -102,42 +93,6 @@ impl Stencil {
         }
         g
     }
-}
-
-/// A box of grid nodes containing every entry of a stencil: node columns
-/// `columns[0] ..= columns[1]` and rows `rows[0] ..= rows[1]`, inside the grid (it may be
-/// larger than the entries need).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct StencilBox {
-    pub columns: [u32; 2],
-    pub rows: [u32; 2],
-}
-
-impl StencilBox {
-    /// The nodes of the cell with lower-left node `cell` (those [`CellPoint::visit_nodes`] can
-    /// visit), the cell clamped to the grid.
-    #[inline(always)]
-    pub fn of_cell(grid: &GridGeometry, cell: [i32; 2]) -> Self {
-        let (i, j) = clamped_cell(grid, cell);
-        Self { columns: [i, (i + 1).min(grid.cells[0] as u32)], rows: [j, (j + 1).min(grid.cells[1] as u32)] }
-    }
-
-    /// The smallest box containing both.
-    #[inline(always)]
-    pub fn union(self, other: Self) -> Self {
-        Self {
-            columns: [self.columns[0].min(other.columns[0]), self.columns[1].max(other.columns[1])],
-            rows: [self.rows[0].min(other.rows[0]), self.rows[1].max(other.rows[1])],
-        }
-    }
-}
-
-/// Lower-left node (column, row) of a cell, clamped to the grid's cells.
-#[inline(always)]
-fn clamped_cell(grid: &GridGeometry, cell: [i32; 2]) -> (u32, u32) {
-    let i = cell[0].clamp(0, grid.cells[0] as i32 - 1);
-    let j = cell[1].clamp(0, grid.cells[1] as i32 - 1);
-    (i as u32, j as u32)
 }
 
 /// What a scheme may read of one particle's domain (borrowed from the particle arrays, so
@@ -192,16 +147,14 @@ pub trait ShapeFunction: Send + Sync + 'static {
     );
 
     /// A box of grid nodes containing every entry of the stencil from `cache`.
-    fn node_box(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain) -> StencilBox;
+    fn node_box(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain) -> NodeBox;
 
     /// Writes the stencil from `cache` (its node box and the entries of
     /// [`ShapeFunction::visit_entries`], in order).
     #[inline(always)]
     fn expand(grid: &GridGeometry, cache: &Self::Cache, domain: &ParticleDomain, axisymmetric: bool, out: &mut Stencil) {
         out.clear();
-        let b = Self::node_box(grid, cache, domain);
-        out.columns = b.columns;
-        out.rows = b.rows;
+        out.node_box = Self::node_box(grid, cache, domain);
         Self::visit_entries(grid, cache, domain, axisymmetric, |node, w, g| out.push(node, w, g));
     }
 
@@ -387,7 +340,7 @@ pub fn fast_floor(x: f64) -> f64 {
 /// (S, dS/du); multiply the derivative by 1/h for physical units.
 ///
 /// Valid for any 0 ≤ lam ≤ 1 (a domain of half-width up to one cell); for lam ≤ 1/2 it equals
-/// the five-piece formula of PHYSICS.md §3, and lam = 0 gives the hat itself. The integral is
+/// the five-piece formula of docs/physics.md §3, and lam = 0 gives the hat itself. The integral is
 /// evaluated piece by piece over the two linear branches of the hat (length × midpoint value;
 /// derivative = Σ slope × length / (2 lam)), so there is no cancellation for small lam: at
 /// lam → 0 the result tends to the hat to rounding.
@@ -474,12 +427,13 @@ pub(crate) mod testing {
 
     /// Asserts that the stencil's node box lies in the grid and contains every entry.
     pub fn check_box(g: &GridGeometry, st: &Stencil) {
-        assert!(st.columns[0] <= st.columns[1] && (st.columns[1] as usize) < g.nodes[0], "{:?}", st.columns);
-        assert!(st.rows[0] <= st.rows[1] && (st.rows[1] as usize) < g.nodes[1], "{:?}", st.rows);
+        let b = st.node_box;
+        assert!(b.columns[0] <= b.columns[1] && (b.columns[1] as usize) < g.nodes[0], "{:?}", b.columns);
+        assert!(b.rows[0] <= b.rows[1] && (b.rows[1] as usize) < g.nodes[1], "{:?}", b.rows);
         for k in 0..st.len {
             let (i, j) = (st.node[k] as usize % g.nodes[0], st.node[k] as usize / g.nodes[0]);
-            assert!((st.columns[0] as usize..=st.columns[1] as usize).contains(&i), "column {i} outside {:?}", st.columns);
-            assert!((st.rows[0] as usize..=st.rows[1] as usize).contains(&j), "row {j} outside {:?}", st.rows);
+            assert!((b.columns[0] as usize..=b.columns[1] as usize).contains(&i), "column {i} outside {:?}", b.columns);
+            assert!((b.rows[0] as usize..=b.rows[1] as usize).contains(&j), "row {j} outside {:?}", b.rows);
         }
     }
 

@@ -27,7 +27,7 @@
 //! - A degenerate or inverted quadrilateral (V ≤ 0 or not finite) falls back to the linear
 //!   hat at the particle position, so the solver does not divide by zero.
 
-use super::{at_least, bilinear_nodes, clamp_between, CellPoint, ParticleDomain, ShapeFunction, StencilBox};
+use super::{at_least, bilinear_nodes, clamp_between, CellPoint, ParticleDomain, ShapeFunction, NodeBox};
 #[cfg(test)]
 use super::Stencil;
 use crate::grid::GridGeometry;
@@ -155,9 +155,9 @@ impl ShapeFunction for Cpdi2 {
     }
 
     #[inline(always)]
-    fn node_box(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain) -> StencilBox {
+    fn node_box(grid: &GridGeometry, cache: &Cpdi2Cache, domain: &ParticleDomain) -> NodeBox {
         if cache.layout == CornerLayout::LinearFallback || domain.corners.is_none() {
-            return StencilBox::of_cell(grid, CellPoint::locate(grid, domain.position).cell);
+            return NodeBox::of_cell(grid, CellPoint::locate(grid, domain.position).cell);
         }
         if cache.layout == CornerLayout::Interior {
             // Every corner cell lies inside the grid: no clamping, the box is the cells' range
@@ -165,10 +165,10 @@ impl ShapeFunction for Cpdi2 {
             let [c0, c1, c2, c3] = cache.cells;
             let (i0, i1) = (c0[0].min(c1[0]).min(c2[0]).min(c3[0]), c0[0].max(c1[0]).max(c2[0]).max(c3[0]));
             let (j0, j1) = (c0[1].min(c1[1]).min(c2[1]).min(c3[1]), c0[1].max(c1[1]).max(c2[1]).max(c3[1]));
-            return StencilBox { columns: [i0 as u32, i1 as u32 + 1], rows: [j0 as u32, j1 as u32 + 1] };
+            return NodeBox { columns: [i0 as u32, i1 as u32 + 1], rows: [j0 as u32, j1 as u32 + 1] };
         }
         // Unrolled by hand: `array::map` is not always inlined, and this runs once per particle.
-        let of = |k: usize| StencilBox::of_cell(grid, cache.cells[k]);
+        let of = |k: usize| NodeBox::of_cell(grid, cache.cells[k]);
         of(0).union(of(1)).union(of(2)).union(of(3))
     }
 
@@ -221,8 +221,8 @@ impl ShapeFunction for Cpdi2 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shape::testing::*;
-    use crate::shape::{hat, Linear};
+    use crate::interpolation::testing::*;
+    use crate::interpolation::{hat, Linear};
     use crate::particles::Particles;
 
     /// xorshift64*: deterministic random numbers in [0, 1) without a dependency.

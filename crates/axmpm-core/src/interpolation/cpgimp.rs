@@ -19,7 +19,7 @@
 //! centred; nodes outside the grid are dropped.
 
 use super::ugimp::{gimp_axes, gimp_box, gimp_entries, GimpCache};
-use super::{ParticleDomain, ShapeFunction, StencilBox};
+use super::{ParticleDomain, ShapeFunction, NodeBox};
 #[cfg(test)]
 use super::Stencil;
 use crate::grid::GridGeometry;
@@ -50,7 +50,7 @@ impl ShapeFunction for CpGimp {
     }
 
     #[inline(always)]
-    fn node_box(_: &GridGeometry, cache: &GimpCache, _: &ParticleDomain) -> StencilBox {
+    fn node_box(_: &GridGeometry, cache: &GimpCache, _: &ParticleDomain) -> NodeBox {
         gimp_box(cache)
     }
 }
@@ -58,8 +58,8 @@ impl ShapeFunction for CpGimp {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shape::testing::*;
-    use crate::shape::UGimp;
+    use crate::interpolation::testing::*;
+    use crate::interpolation::UGimp;
 
     fn both(x: [f64; 2], l0: [f64; 2], f11: f64, f22: f64, axisymmetric: bool) -> (Stencil, Stencil) {
         let g = grid();

@@ -37,7 +37,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterator
 
-from .errors import RunError, ScenarioError
+from ..errors import RunError, ScenarioError
+from .report import fmt, number, pct
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -79,14 +80,14 @@ QUICK: dict[str, Any] = {
 
 
 def _law(key: str) -> Any:
-    from . import laws
+    from ..cases.column_collapse import laws
 
     getter = getattr(laws, "get_law", None)
     return getter(key) if getter else laws
 
 
 def law_prediction(a: float, law: Any = None) -> tuple[float | None, float | None]:
-    """(R*, H*) of ``law`` (an :mod:`axmpm.laws` law, default Lube et al. 2004) at ``a``."""
+    """(R*, H*) of ``law`` (an :mod:`axmpm.cases.column_collapse.laws` law, default Lube et al. 2004) at ``a``."""
     if law is None:
         law = _law("lube2004")
     p = law.predict(a)
@@ -111,24 +112,14 @@ def misfit(runout: float, height: float | None, law_runout: float | None,
     return math.sqrt(sum(terms) / len(terms)) if terms else math.nan
 
 
-def _num(value: Any) -> float | None:
-    if value is None or value == "":
-        return None
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
-
-
 def score_rows(rows: Sequence[dict[str, Any]], law: Any = None) -> list[dict[str, Any]]:
     """Each row with ``law_runout``, ``law_height``, ``runout_error``, ``height_error`` and
     ``misfit`` added (NaN misfit for failed runs or runs without deposit metrics)."""
     out = []
     for row in rows:
         r = dict(row)
-        a = _num(row.get("aspect_ratio"))
-        rs, hs = _num(row.get("runout_normalised")), _num(row.get("final_height_normalised"))
+        a = number(row.get("aspect_ratio"))
+        rs, hs = number(row.get("runout_normalised")), number(row.get("final_height_normalised"))
         if row.get("status") == "completed" and a and rs is not None:
             lr, lh = law_prediction(a, law)
             r.update(law_runout=lr, law_height=lh,
@@ -304,7 +295,7 @@ def snap_overrides(data: dict[str, Any], cell_size: float) -> list[str]:
 
 def _case_overrides(data: dict[str, Any], cfg: dict[str, Any]) -> list[str]:
     """The config's ``set`` plus, in quick mode, the coarse grid and short end time."""
-    from .scenario import apply_overrides
+    from ..scenario import apply_overrides
     from .sweep import _override_text
 
     overrides = list(cfg["set"])
@@ -405,7 +396,7 @@ def calibrate(
     workers: int | None = None,
 ) -> Calibration:
     """Run the calibration and the blind predictions; write the report (module doc)."""
-    from .scenario import read_toml
+    from ..scenario import read_toml
     from .sweep import execute, plan_runs, run_name
 
     cfg = load_config(config, quick)
@@ -480,16 +471,6 @@ def _status_cell(row: dict[str, Any]) -> str:
     return status
 
 
-def _fmt(x: Any, spec: str = ".3g") -> str:
-    x = _num(x)
-    return "—" if x is None else format(x, spec)
-
-
-def _pct(x: Any) -> str:
-    x = _num(x)
-    return "—" if x is None else f"{100 * x:+.1f} %"
-
-
 def _heatmap(cal: Calibration, path: Path) -> None:
     import numpy as np
     from matplotlib.figure import Figure
@@ -536,17 +517,17 @@ def _comparison(cal: Calibration, law: Any, path: Path) -> None:
     ax_h.loglog(a, lh, "k-", label=label)
     cases = ([("calibration", cal.best)] if cal.best else []) + [("blind prediction", p) for p in cal.predictions]
     for kind, row in cases:
-        x = _num(row.get("aspect_ratio"))
+        x = number(row.get("aspect_ratio"))
         if x is None:
             continue
         style = dict(marker="o", ms=8, ls="none") if kind == "calibration" else dict(marker="s", ms=8, ls="none", mfc="none")
         for ax, key, err in ((ax_r, "runout_normalised", "runout_error"), (ax_h, "final_height_normalised", "height_error")):
-            y = _num(row.get(key))
+            y = number(row.get(key))
             if y is None:
                 continue
             ax.plot([x], [y], color="C0" if kind == "calibration" else "C3", **style,
                     label=kind if not any(l.get_label() == kind for l in ax.lines) else None)
-            e = _num(row.get(err))
+            e = number(row.get(err))
             if e is not None:
                 ax.annotate(f"{100 * e:+.0f} %", (x, y), textcoords="offset points", fontsize=8,
                             xytext=(-34, 4) if kind == "calibration" else (6, -12))
@@ -582,7 +563,7 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
         f" ({getattr(law, 'source', '')}).",
         "",
         "Misfit of a run: with R\\* = (R∞ − R_i)/R_i and H\\* = H∞/R_i from "
-        "`axmpm.collapse.deposit_metrics` and the law evaluated at the run's own aspect ratio,",
+        "`axmpm.cases.column_collapse.deposit_metrics` and the law evaluated at the run's own aspect ratio,",
         "",
         "    e_R = (R*_sim − R*_law) / R*_law,  e_H = (H*_sim − H*_law) / H*_law,  misfit = sqrt((e_R² + e_H²) / 2)",
         "",
@@ -590,9 +571,9 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
         "",
     ]
     if cal.scored:
-        cpr = _num(cal.scored[0].get("initial_radius"))
+        cpr = number(cal.scored[0].get("initial_radius"))
         lines += [f"Runs: {len(cal.scored)} ({sum(1 for r in cal.scored if r.get('status') == 'completed')} "
-                  f"completed); R_i = {_fmt(cpr)} m. Base friction and k0 follow φ where the scenario tied "
+                  f"completed); R_i = {fmt(cpr)} m. Base friction and k0 follow φ where the scenario tied "
                   "them to it (tan φ, 1 − sin φ).", ""]
     if cal.scored:
         _heatmap(cal, out / "misfit.png")
@@ -601,9 +582,9 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
               "|---:|---:|---|---:|---:|---:|---:|---:|---:|"]
     for r in cal.scored:
         lines.append(f"| {float(r[cal.e_key]) / 1e6:g} | {float(r[cal.phi_key]):g} | {_status_cell(r)} | "
-                     f"{_fmt(r.get('aspect_ratio'))} | {_fmt(r.get('runout_normalised'))} | "
-                     f"{_fmt(r.get('final_height_normalised'))} | {_pct(r.get('runout_error'))} | "
-                     f"{_pct(r.get('height_error'))} | {_fmt(r.get('misfit'))} |")
+                     f"{fmt(r.get('aspect_ratio'))} | {fmt(r.get('runout_normalised'))} | "
+                     f"{fmt(r.get('final_height_normalised'))} | {pct(r.get('runout_error'))} | "
+                     f"{pct(r.get('height_error'))} | {fmt(r.get('misfit'))} |")
     lines.append("")
 
     summary: dict[str, Any] = {"quick": bool(cfg.get("quick")), "law": cfg["law"], "scenario": str(cfg["scenario"])}
@@ -615,8 +596,8 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
                        misfit=b["misfit"], sensitivity=s)
         lines += ["## Chosen values", "",
                   f"- **E = {float(b[cal.e_key]) / 1e6:g} MPa, φ = {float(b[cal.phi_key]):g}°**, misfit "
-                  f"{b['misfit']:.3f} (runout error {_pct(b.get('runout_error'))}, height error "
-                  f"{_pct(b.get('height_error'))}).", "",
+                  f"{b['misfit']:.3f} (runout error {pct(b.get('runout_error'))}, height error "
+                  f"{pct(b.get('height_error'))}).", "",
                   "## Sensitivity", ""]
         if s.get("neighbours"):
             lines.append(f"- Grid neighbours (±1 step in E and/or φ): misfit {s['neighbour_min']:.3f} to "
@@ -638,10 +619,10 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
                   "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|"]
         cases = [dict(b, run="calibration: " + Path(cfg["scenario"]).stem)] + [dict(p) for p in cal.predictions]
         for r in cases:
-            lines.append(f"| {r.get('run')} | {_fmt(r.get('aspect_ratio'))} | {_status_cell(r)} | "
-                         f"{_fmt(r.get('runout_normalised'))} | {_fmt(r.get('law_runout'))} | "
-                         f"{_pct(r.get('runout_error'))} | {_fmt(r.get('final_height_normalised'))} | "
-                         f"{_fmt(r.get('law_height'))} | {_pct(r.get('height_error'))} | {_fmt(r.get('misfit'))} |")
+            lines.append(f"| {r.get('run')} | {fmt(r.get('aspect_ratio'))} | {_status_cell(r)} | "
+                         f"{fmt(r.get('runout_normalised'))} | {fmt(r.get('law_runout'))} | "
+                         f"{pct(r.get('runout_error'))} | {fmt(r.get('final_height_normalised'))} | "
+                         f"{fmt(r.get('law_height'))} | {pct(r.get('height_error'))} | {fmt(r.get('misfit'))} |")
         lines += ["", "![comparison with the law](comparison.png)", ""]
         _comparison(cal, law, out / "comparison.png")
         summary["predictions"] = [
@@ -654,7 +635,7 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
               "- Quote the cells per radius with the result: with pure FLIP the a ≤ 0.8 runouts are "
               "converged (±5 %) at 30 cells per radius, the a = 5.4 one is not at 15 (docs/validation.md); "
               "with a FLIP/PIC blend the runout depends on the step count.",
-              "- The law's height coefficients above a ≈ 0.74 are unconfirmed (`axmpm.laws`).",
+              "- The law's height coefficients above a ≈ 0.74 are unconfirmed (`axmpm.cases.column_collapse.laws`).",
               "- Runs and tables: `calibration/results.csv`, `prediction/results.csv`.", ""]
     path = out / "report.md"
     path.write_text("\n".join(lines))
@@ -687,7 +668,7 @@ def main(args: argparse.Namespace) -> int:
     if cal.best is None:
         return 3
     for p in cal.predictions:
-        print(f"prediction {p.get('run')}: a = {_fmt(p.get('aspect_ratio'))}, runout error "
-              f"{_pct(p.get('runout_error'))}, height error {_pct(p.get('height_error'))}"
+        print(f"prediction {p.get('run')}: a = {fmt(p.get('aspect_ratio'))}, runout error "
+              f"{pct(p.get('runout_error'))}, height error {pct(p.get('height_error'))}"
               + ("" if p.get("status") == "completed" else f" (failed: {p.get('error')})"))
     return 0

@@ -1,6 +1,6 @@
-"""``axmpm convergence``: the column-collapse cases on a sequence of meshes.
+"""``axmpm convergence``: a validation case on a sequence of meshes (the column collapse).
 
-Runs :func:`axmpm.validate.run_validation` once per cell size (``DIR/h<size>mm/``), then
+Runs the case through the generic driver once per cell size (``DIR/h<size>mm/``), then
 tabulates, per case and mesh, the two runout measures and the final height against Lube et
 al. (2004), and estimates the mesh-converged value of each relative difference by Richardson
 extrapolation (Roache 1998, *Verification and Validation in Computational Science and
@@ -29,7 +29,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .validate import CASES, parse_cases, run_validation, split_overrides
+from .report import pct
 
 NAME = "convergence"
 
@@ -40,25 +40,20 @@ ROUND_OFF = 1e-9
 #: Smallest observed order of convergence that is extrapolated.
 MIN_ORDER = 0.5
 
-#: The quantities followed across meshes: key in the table → (label, value getter, relative
-#: difference to Lube et al. 2004 getter).
-QUANTITIES: dict[str, tuple[str, Any, Any]] = {
-    "runout_one_grain": (
-        "(R∞−R_i)/R_i, one grain thick",
-        lambda c: c["runout_normalised"],
-        lambda c: c["laws"]["lube2004"]["runout_normalised_rel_diff"],
-    ),
-    "runout_edge": (
-        "(R∞−R_i)/R_i, particle edge",
-        lambda c: c["runout_normalised_particle_edge"],
-        lambda c: c["runout_particle_edge_rel_diff"]["lube2004"],
-    ),
-    "final_height": (
-        "H∞/R_i",
-        lambda c: c["final_height_normalised"],
-        lambda c: c["laws"]["lube2004"]["final_height_rel_diff"],
-    ),
-}
+
+
+def _case() -> Any:
+    """The case whose meshes are compared: the column collapse (it has ``convergence_quantities``
+    and a ``cell_size`` builder parameter)."""
+    from ..cases.column_collapse import case
+
+    return case
+
+
+def quantities() -> dict[str, tuple[str, Any, Any]]:
+    """The quantities followed across meshes: key → (label, value getter, relative difference
+    to the reference getter), from the case's ``convergence_quantities``."""
+    return _case().CASE.convergence_quantities
 
 
 def richardson(values: list[float], ratio: float) -> dict[str, Any]:
@@ -94,7 +89,8 @@ def summarise(runs: dict[float, dict[str, Any]],
     """Per case: every mesh's quantities and the Richardson estimate of each relative
     difference. ``runs`` maps cell size → the ``validation.json`` data of that mesh;
     ``run_dirs`` (cell size → the mesh's folder) adds each coarser mesh's
-    ``profile_difference`` to the finest deposit (``axmpm.collapse.profile_difference``)."""
+    ``profile_difference`` to the finest deposit (:func:`~axmpm.cases.column_collapse.deposit.profile_difference`)."""
+    QUANTITIES = quantities()
     sizes = sorted(runs, reverse=True)
     ratio = constant_ratio(sizes)
     names = [c["name"] for c in runs[sizes[0]]["cases"]]
@@ -105,7 +101,8 @@ def summarise(runs: dict[float, dict[str, Any]],
             case = next(c for c in runs[h]["cases"] if c["name"] == name)
             entry = {"cell_size": h, "cells_per_radius": case["cells_per_radius"],
                      "aspect_ratio": case["aspect_ratio"], "status": case["status"],
-                     "particles": case.get("particles"), "wall_seconds": case.get("wall_seconds")}
+                     "particles": case.get("particles"), "wall_seconds": case.get("wall_seconds"),
+                     "run_dir": case.get("run_dir", f"cases/{name}")}
             for key, (_, value, rel) in QUANTITIES.items():
                 entry[key] = value(case)
                 entry[key + "_rel_diff"] = rel(case)
@@ -125,7 +122,7 @@ def _add_profile_differences(name: str, sizes: list[float], meshes: list[dict[st
                              run_dirs: dict[float, Path] | None) -> None:
     """``profile_difference`` of every mesh's deposit to the finest one's (None where the
     column differs, e.g. a height rounded to another number of cells, or a run is missing)."""
-    from .collapse import profile_difference
+    from ..cases.column_collapse.deposit import profile_difference
 
     finest = sizes[-1]
     for h, m in zip(sizes, meshes):
@@ -133,23 +130,20 @@ def _add_profile_differences(name: str, sizes: list[float], meshes: list[dict[st
         if run_dirs is None or h == finest or m["status"] != "completed" or meshes[-1]["status"] != "completed":
             continue
         try:
-            m["profile_difference"] = profile_difference(run_dirs[h] / "cases" / name,
-                                                         run_dirs[finest] / "cases" / name)
+            m["profile_difference"] = profile_difference(run_dirs[h] / m["run_dir"],
+                                                         run_dirs[finest] / meshes[-1]["run_dir"])
         except (ValueError, OSError, KeyError):
             pass
 
 
-def _pct(x: float | None) -> str:
-    return "—" if x is None else f"{100 * x:+.1f} %"
-
-
 def table(summary: dict[str, Any]) -> str:
+    QUANTITIES = quantities()
     lines = ["| case | cells/R_i | a | " + " | ".join(f"{lab} | vs Lube" for lab, _, _ in QUANTITIES.values())
              + " | deposit vs finest | wall s |",
              "|---|---|---|" + "---|---|" * len(QUANTITIES) + "---|---|"]
     for c in summary["cases"]:
         for m in c["meshes"]:
-            cells = " | ".join(f"{m[k]:.3f} | {_pct(m[k + '_rel_diff'])}" for k in QUANTITIES)
+            cells = " | ".join(f"{m[k]:.3f} | {pct(m[k + '_rel_diff'])}" for k in QUANTITIES)
             wall = m.get("wall_seconds")
             pd = m.get("profile_difference")
             pd_cell = "—" if pd is None else f"{100 * pd:.1f} %"
@@ -164,7 +158,7 @@ def table(summary: dict[str, Any]) -> str:
                 est.append("not converging | —")
             else:
                 order = "—" if r["order"] is None else f"p = {r['order']:.2f}"
-                est.append(f"{order} | {_pct(r['extrapolated'])}")
+                est.append(f"{order} | {pct(r['extrapolated'])}")
         lines.append(f"| {c['name']} | → ∞ (Richardson) | | " + " | ".join(est) + " | | |")
     return "\n".join(lines)
 
@@ -177,6 +171,7 @@ def plot(summary: dict[str, Any], path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    QUANTITIES = quantities()
     fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(4.2 * len(QUANTITIES), 3.6), squeeze=False)
     for ax, (key, (label, _, _)) in zip(axes[0], QUANTITIES.items()):
         for c in summary["cases"]:
@@ -203,7 +198,9 @@ def _reuse(folder: Path, cases: list[str], formulation: str, overrides: list[str
            builder: dict[str, Any]) -> dict[str, Any] | None:
     """The results of an earlier call with the same cases and settings in ``folder``, all
     completed, re-analysed with the current rules; None if anything differs or is missing."""
-    from .validate import case_result
+    from ..cases import RunSpec
+
+    case = _case()
 
     try:
         old = json.loads((folder / "validation.json").read_text())
@@ -214,7 +211,7 @@ def _reuse(folder: Path, cases: list[str], formulation: str, overrides: list[str
     if (old.get("formulation") != formulation or old.get("overrides") != expected
             or any(done.get(c, {}).get("status") != "completed" for c in cases)):
         return None
-    return {**old, "cases": [case_result(c, folder / "cases" / c, CASES[c], done[c].get("wall_seconds"))
+    return {**old, "cases": [{**done[c], **case.CASE.metrics(RunSpec(c, {}), folder / done[c].get("run_dir", f"cases/{c}"))}
                              for c in cases]}
 
 
@@ -227,7 +224,7 @@ def run_convergence(out: str | Path, cases: list[str], cell_sizes: list[float],
     for h in sorted(cell_sizes, reverse=True):
         mesh_builder = {**builder, "cell_size": h}
         folder = folders[h] = out / f"h{h * 1e3:g}mm"
-        runs[h] = _reuse(folder, cases, formulation, overrides, mesh_builder) or run_validation(
+        runs[h] = _reuse(folder, cases, formulation, overrides, mesh_builder) or _case().run_validation(
             folder, cases, formulation, jobs, overrides, report=False, **mesh_builder)
     summary = summarise(runs, folders)
     summary["formulation"] = formulation
@@ -254,7 +251,7 @@ rounded to another number of cells).
 
 *Relative difference to Lube et al. 2004 against cells per radius; dotted: extrapolated limit.*
 
-Runs: h<size>mm/cases/NAME (ParaView: particles.pvd); data: convergence.json.
+Runs: h<size>mm/cases/column_collapse/NAME (ParaView: particles.pvd); data: convergence.json.
 """
     (out / "convergence.md").write_text(text)
     return summary
@@ -262,7 +259,8 @@ Runs: h<size>mm/cases/NAME (ParaView: particles.pvd); data: convergence.json.
 
 def add_parser(sub: Any) -> argparse.ArgumentParser:
     p = sub.add_parser(NAME, help="run column-collapse cases on a sequence of meshes (Richardson extrapolation)")
-    p.add_argument("--cases", default="a056", help=f"comma-separated cases (default a056; known: {','.join(CASES)})")
+    p.add_argument("--cases", default="a056",
+                   help=f"comma-separated columns (default a056; known: {','.join(_case().CASES)})")
     p.add_argument("--cell-sizes", default=",".join(f"{h:g}" for h in DEFAULT_CELL_SIZES),
                    help="comma-separated cell sizes in m, coarse to fine (default 0.002,0.001,0.0005)")
     p.add_argument("--formulation", choices=["axisymmetric", "plane_strain"], default="axisymmetric")
@@ -274,16 +272,17 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
 
 
 def main(args: argparse.Namespace) -> int:
-    from .errors import RunError
+    from ..errors import RunError
 
-    cases = parse_cases(args.cases)
+    case = _case()
+    cases = case.parse_cases(args.cases)
     try:
         sizes = [float(v) for v in args.cell_sizes.split(",") if v.strip()]
     except ValueError:
         raise RunError(f"--cell-sizes: expected comma-separated numbers in m, got {args.cell_sizes!r}") from None
     if not sizes or any(not (0.0 < h < 1.0) for h in sizes) or len(set(sizes)) != len(sizes):
         raise RunError(f"--cell-sizes: each must be in (0, 1) m and distinct, got {args.cell_sizes!r}")
-    overrides, builder = split_overrides(args.overrides)
+    overrides, builder = case.split_overrides(args.overrides)
     if "cell_size" in builder:
         raise RunError("--set cell_size: use --cell-sizes for axmpm convergence")
     summary = run_convergence(args.out, cases, sizes, args.formulation, args.jobs or None, overrides, **builder)

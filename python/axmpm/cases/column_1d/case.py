@@ -1,4 +1,5 @@
-"""``axmpm verify``: the large-deformation column of PHYSICS.md §4 for every interpolation scheme.
+"""The ``column_1d`` verification case: the large-deformation column of PHYSICS.md §4 for every
+interpolation scheme (``axmpm verify``, the default verification).
 
 The 1D column under self-weight (H = 1 m, ρ0 = 1000 kg/m³, g = 10 m/s², E = 20 kPa, ν = 0,
 neo-Hookean: ρ0 g H/E = 0.5) is run
@@ -7,37 +8,28 @@ neo-Hookean: ρ0 g H/E = 0.5) is run
 * with the four schemes ``linear`` (original MPM), ``ugimp``, ``cpgimp``, ``cpdi2``;
 * in plane strain, axisymmetric with the column touching the axis, and axisymmetric with
   the column's inner face :data:`OFFSET_WIDTHS` column widths away from the axis;
-* at several resolutions (cells along the column).
+* at several resolutions (cells along the column; ``--quick``: 16 and 32).
 
-Each case is run to the static state (gravity ramped in over 2 fundamental periods, then
+Each run goes to the static state (gravity ramped in over 2 fundamental periods, then
 :data:`SETTLE_PERIODS` periods of Cundall local damping) and its last frame is compared with
-the exact solution at every particle's initial height (:func:`axmpm.column.column_errors`).
-A run the engine stops (e.g. particles separating and leaving the grid) is recorded as
-failed with the engine's message; it is a result, not a crash.
+the exact solution at every particle's initial height (:func:`.scenario.column_errors`).
+A run the engine stops (e.g. particles separating and leaving the grid) is a failed result
+with the engine's message, not a crash.
 
-Outputs under ``--out DIR``: ``cases/NAME/`` (one run folder per case, readable by
-:func:`axmpm.load_run`), ``verification.json`` (cases and enforced checks), ``report.md``
-and ``figures/*.png``. The exit code is 0 when every enforced check passes, 1 otherwise.
-
-The enforced checks are computed from the case list alone by :func:`evaluate_checks`, so
-they can be tested on fabricated results.
+The enforced checks are computed from the records alone by :func:`evaluate_checks`, so they
+can be tested on fabricated results.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import os
-import shutil
-import sys
-import time
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-NAME = "verify"
+from .. import RunSpec, register
+from ...study.report import pct
 
 SCHEMES: tuple[str, ...] = ("linear", "ugimp", "cpgimp", "cpdi2")
 MODES: tuple[str, ...] = ("compression", "tension")
@@ -75,131 +67,129 @@ STRESS_TOLERANCE = 0.03
 DISPLACEMENT_TOLERANCE = 0.01
 TWIN_TOLERANCE = 0.005
 
-RESULTS = "verification.json"
-REPORT = "report.md"
-CASES = "cases"
 FIGURES = "figures"
 
 
-# --------------------------------------------------------------------------- cases
+# --------------------------------------------------------------------------- runs
 
 
-@dataclass(frozen=True)
-class CaseSpec:
-    scheme: str
-    mode: str
-    layout: str
-    cells_along: int
-
-    @property
-    def name(self) -> str:
-        return f"{self.scheme}_{self.mode}_{self.layout}_n{self.cells_along:03d}"
-
-    @property
-    def formulation(self) -> str:
-        return LAYOUTS[self.layout][0]
-
-    @property
-    def cell_size(self) -> float:
-        return HEIGHT / self.cells_along
-
-    @property
-    def offset(self) -> float:
-        """Inner radius of the column (0 in plane strain and on the axis), m."""
-        return LAYOUTS[self.layout][1] * CELLS_ACROSS * self.cell_size
-
-    def scenario(self) -> Any:
-        from .column import column_scenario
-
-        return column_scenario(
-            self.formulation,  # type: ignore[arg-type]
-            self.scheme,  # type: ignore[arg-type]
-            self.mode,  # type: ignore[arg-type]
-            cells_along=self.cells_along,
-            cells_across=CELLS_ACROSS,
-            offset=self.offset,
-            height=HEIGHT,
-            density=DENSITY,
-            gravity=GRAVITY,
-            youngs_modulus=YOUNGS_MODULUS,
-            particles_per_cell=PARTICLES_PER_CELL,
-            material_model="neo_hookean",
-            ramp_periods=RAMP_PERIODS,
-            settle_periods=SETTLE_PERIODS,
-            damping=DAMPING,
-            outputs=OUTPUTS,
-        )
+def run_name(scheme: str, mode: str, layout: str, cells_along: int) -> str:
+    return f"{scheme}_{mode}_{layout}_n{cells_along:03d}"
 
 
-def case_specs(resolutions: Sequence[int], schemes: Sequence[str] = SCHEMES, modes: Sequence[str] = MODES,
-               layouts: Iterable[str] = tuple(LAYOUTS)) -> list[CaseSpec]:
-    """All cases in a fixed order (scheme, mode, layout, resolution)."""
-    return [CaseSpec(s, m, lay, n) for s in schemes for m in modes for lay in layouts for n in sorted(resolutions)]
-
-
-def _base_record(spec: CaseSpec) -> dict[str, Any]:
-    return {
-        "name": spec.name,
-        "scheme": spec.scheme,
-        "formulation": spec.formulation,
-        "layout": spec.layout,
-        "mode": spec.mode,
-        "offset": spec.offset,
-        "offset_widths": LAYOUTS[spec.layout][1],
-        "cells_along": spec.cells_along,
-        "cells_per_length": spec.cells_along / HEIGHT,
-        "cell_size": spec.cell_size,
+def run_spec(scheme: str, mode: str, layout: str, cells_along: int) -> RunSpec:
+    """A run and its parameters (everything a record needs, also when the run fails)."""
+    formulation, widths = LAYOUTS[layout]
+    cell_size = HEIGHT / cells_along
+    return RunSpec(run_name(scheme, mode, layout, cells_along), {
+        "scheme": scheme,
+        "formulation": formulation,
+        "layout": layout,
+        "mode": mode,
+        "offset": widths * CELLS_ACROSS * cell_size,  # inner radius, m (0 in plane strain and on the axis)
+        "offset_widths": widths,
+        "cells_along": int(cells_along),
+        "cells_per_length": cells_along / HEIGHT,
+        "cell_size": cell_size,
         "height": HEIGHT,
         "density": DENSITY,
         "gravity": GRAVITY,
         "youngs_modulus": YOUNGS_MODULUS,
         "load_ratio": DENSITY * GRAVITY * HEIGHT / YOUNGS_MODULUS,
-        "run_dir": f"{CASES}/{spec.name}",
-        "status": "not run",
-        "message": "",
-        "particles": None,
-        "steps": None,
-        "wall_seconds": None,
-        "final_kinetic_energy": None,
-        "stress_error": None,
-        "displacement_error": None,
-        "max_stress_error": None,
-        "plane_strain_difference": None,
         "tolerance": {"stress": STRESS_TOLERANCE, "displacement": DISPLACEMENT_TOLERANCE},
-        "passed": False,
-    }
+    })
 
 
-def run_case(spec: CaseSpec, out: str | Path, threads: int = 1) -> dict[str, Any]:
-    """Run one case into ``out/cases/NAME`` and compare it with the exact solution.
+def run_specs(resolutions: Sequence[int], schemes: Sequence[str] = SCHEMES, modes: Sequence[str] = MODES,
+              layouts: Iterable[str] = tuple(LAYOUTS)) -> list[RunSpec]:
+    """All runs in a fixed order (scheme, mode, layout, resolution)."""
+    layouts = list(layouts)
+    return [run_spec(s, m, lay, n) for s in schemes for m in modes for lay in layouts for n in sorted(resolutions)]
 
-    Never raises for a failing simulation: the record then has ``status`` "failed", the
-    message, null errors and ``passed`` false."""
-    from .column import column_errors
-    from .output import load_run
-    from .runner import run
 
-    record = _base_record(spec)
-    run_dir = Path(out) / record["run_dir"]
-    started = time.perf_counter()
+def column_run_scenario(run: RunSpec) -> Any:
+    from .scenario import column_scenario
+
+    p = run.params
+    return column_scenario(
+        p["formulation"], p["scheme"], p["mode"],
+        cells_along=p["cells_along"],
+        cells_across=CELLS_ACROSS,
+        offset=p["offset"],
+        height=HEIGHT,
+        density=DENSITY,
+        gravity=GRAVITY,
+        youngs_modulus=YOUNGS_MODULUS,
+        particles_per_cell=PARTICLES_PER_CELL,
+        material_model="neo_hookean",
+        ramp_periods=RAMP_PERIODS,
+        settle_periods=SETTLE_PERIODS,
+        damping=DAMPING,
+        outputs=OUTPUTS,
+    )
+
+
+def _end_rows(run: RunSpec) -> tuple[float, float]:
+    """Initial heights (above the column's bottom) of the particle rows at the free end and at
+    the fixed end."""
+    s = run.params["cell_size"] / PARTICLES_PER_CELL
+    low, high = 0.5 * s, HEIGHT - 0.5 * s
+    return (high, low) if run.params["mode"] == "compression" else (low, high)
+
+
+def column_reference(run: RunSpec) -> dict[str, float]:
+    """The exact solution at the particle rows of both ends: vertical displacement of the free
+    end and vertical stress of the fixed end."""
+    from . import exact
+
+    free, fixed = _end_rows(run)
+    args = (HEIGHT, DENSITY, GRAVITY, YOUNGS_MODULUS, run.params["mode"])
+    return {"free_end_displacement": float(exact.vertical_displacement(free, *args)),
+            "fixed_end_stress": float(exact.vertical_stress(fixed, *args))}
+
+
+EMPTY_METRICS: dict[str, Any] = {
+    "stress_error": None, "displacement_error": None, "max_stress_error": None,
+    "free_end_displacement": None, "fixed_end_stress": None,
+    "plane_strain_difference": None, "passed": False,
+}
+
+
+def column_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
+    """Relative L2 errors of the last frame against the exact solution (None unless completed),
+    and the mean displacement / stress of the particle rows at the two ends."""
+    import json
+
+    import numpy as np
+
+    from ...output import load_run
+    from .scenario import column_errors, column_geometry
+
+    out = dict(EMPTY_METRICS)
     try:
-        summary = run(spec.scenario(), run_dir, threads=threads, overwrite=True, progress=False)
-        record.update(status=summary["status"], message=summary["message"], particles=summary["particles"],
-                      steps=summary["steps"],
-                      final_kinetic_energy=summary.get("energies", {}).get("kinetic_energy"))
-        if summary["status"] == "completed":
-            errors = column_errors(load_run(run_dir))
-            record.update(stress_error=errors.stress_l2, displacement_error=errors.displacement_l2,
-                          max_stress_error=errors.stress_max)
-    except Exception as exc:  # noqa: BLE001 - a broken case is recorded, the others still run
-        record.update(status="failed", message=f"{type(exc).__name__}: {exc}")
-    record["wall_seconds"] = time.perf_counter() - started
-    record["passed"] = case_passes(record)
-    return record
+        status = json.loads((Path(run_dir) / "summary.json").read_text()).get("status")
+    except (OSError, ValueError):
+        return out
+    if status != "completed":
+        return out
+    result = load_run(run_dir)
+    errors = column_errors(result)
+    out.update(stress_error=errors.stress_l2, displacement_error=errors.displacement_l2,
+               max_stress_error=errors.stress_max)
+    frame = result.frames[-1]
+    X = np.asarray(frame.X0)[:, 1] - column_geometry(result.scenario).base
+    free, fixed = _end_rows(run)
+    tol = 1e-6 * HEIGHT
+    at_free, at_fixed = np.abs(X - free) < tol, np.abs(X - fixed) < tol
+    if at_free.any() and at_fixed.any():
+        u = np.asarray(frame.x)[:, 1] - np.asarray(frame.X0)[:, 1]
+        out.update(free_end_displacement=float(u[at_free].mean()),
+                   fixed_end_stress=float(np.asarray(frame.stress)[at_fixed, 1].mean()))
+    return out
 
 
 def case_passes(record: dict[str, Any]) -> bool:
-    """A case passes when it completed and both its errors are within its tolerance."""
+    """A run passes when it completed and both its errors are within its tolerance."""
     tol = record.get("tolerance") or {}
     s, d = record.get("stress_error"), record.get("displacement_error")
     return (record.get("status") == "completed" and s is not None and d is not None
@@ -207,10 +197,10 @@ def case_passes(record: dict[str, Any]) -> bool:
 
 
 def add_twin_differences(cases: list[dict[str, Any]], out: str | Path) -> None:
-    """Set ``plane_strain_difference`` of every completed axisymmetric case whose plane-strain
+    """Set ``plane_strain_difference`` of every completed axisymmetric run whose plane-strain
     twin completed: relative L2 difference of the vertical stress, particle by particle."""
-    from .column import stress_difference
-    from .output import load_run
+    from ...output import load_run
+    from .scenario import stress_difference
 
     by_key = {_twin_key(c): c for c in cases if c["layout"] == "plane_strain"}
     for case in cases:
@@ -239,8 +229,9 @@ def _check(name: str, measured: float | None, limit: float, cases: list[str], co
         passed = False
     else:
         passed = measured <= limit if comparison == "<=" else measured < limit
+    detail = f"measured {measured}, limit {comparison} {limit}" + (f" ({note})" if note else "")
     return {"name": name, "measured": measured, "limit": limit, "comparison": comparison, "passed": bool(passed),
-            "cases": cases, "note": note}
+            "cases": cases, "note": note, "detail": detail}
 
 
 def _finest(cases: list[dict[str, Any]], scheme: str, mode: str, layout: str) -> dict[str, Any] | None:
@@ -321,126 +312,12 @@ def evaluate_checks(cases: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return checks
 
 
-# --------------------------------------------------------------------------- running
-
-
-def _prepare(out: Path, overwrite: bool) -> None:
-    from .errors import RunError
-
-    if out.exists() and not out.is_dir():
-        raise RunError(f"--out {out} exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()):
-        if not ((out / RESULTS).exists() or (out / CASES).is_dir() or overwrite):
-            raise RunError(f"--out {out} is a non-empty folder that is not an axmpm verify output; "
-                           "choose another folder or pass --overwrite")
-        resolved = out.resolve()
-        if resolved in {Path("/").resolve(), Path.home().resolve()} or Path.cwd().resolve().is_relative_to(resolved):
-            raise RunError(f"refusing to clear {out}: it is the root, home or current folder")
-        for child in out.iterdir():
-            if child.is_dir() and not child.is_symlink():
-                shutil.rmtree(child)
-            else:
-                child.unlink()
-    (out / CASES).mkdir(parents=True, exist_ok=True)
-
-
-def _cost(spec: CaseSpec) -> float:
-    # particles × steps ∝ n²; grid work grows with the offset.
-    return spec.cells_along ** 2 * (1.0 + 0.2 * LAYOUTS[spec.layout][1] / 20)
-
-
-def run_cases(specs: list[CaseSpec], out: Path, jobs: int = 1, threads: int = 1,
-              log: Any = None) -> list[dict[str, Any]]:
-    """Run every case (in a process pool when ``jobs`` > 1); records in the order of ``specs``."""
-    results: dict[str, dict[str, Any]] = {}
-    total = len(specs)
-
-    def done(record: dict[str, Any]) -> None:
-        results[record["name"]] = record
-        if log is not None:
-            if record["status"] == "completed":
-                what = (f"stress {100 * record['stress_error']:.3f} %, "
-                        f"displacement {100 * record['displacement_error']:.3f} %")
-            else:
-                what = f"{record['status']}: {record['message']}"
-            print(f"[{len(results):3d}/{total}] {record['name']}: {what} ({record['wall_seconds']:.1f} s)",
-                  file=log, flush=True)
-
-    order = sorted(specs, key=_cost, reverse=True)  # longest first: better load balance
-    if jobs <= 1:
-        for spec in order:
-            done(run_case(spec, out, threads))
-    else:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        # fork: no engine or thread pool exists in this process yet, and unlike spawn it does
-        # not re-import the caller's main module (scripts without a __main__ guard work).
-        method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-        ctx = multiprocessing.get_context(method)
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            futures = [pool.submit(run_case, spec, str(out), threads) for spec in order]
-            for future in as_completed(futures):
-                done(future.result())
-    return [results[s.name] for s in specs]
-
-
-def verify(out: str | Path, quick: bool = False, jobs: int | None = None, threads: int = 1,
-           resolutions: Sequence[int] | None = None, overwrite: bool = False, log: Any = sys.stdout,
-           figures: bool = True) -> dict[str, Any]:
-    """Run the verification into ``out``; write verification.json, report.md and figures;
-    return the results dict (``passed`` true when every enforced check passes)."""
-    from .runner import default_threads
-
-    out = Path(out)
-    _prepare(out, overwrite)
-    if resolutions is None:
-        resolutions = QUICK_RESOLUTIONS if quick else FULL_RESOLUTIONS
-    resolutions = sorted({int(n) for n in resolutions})
-    jobs = default_threads() if not jobs else int(jobs)
-    specs = case_specs(resolutions)
-    started = time.perf_counter()
-    cases = run_cases(specs, out, jobs=jobs, threads=threads, log=log)
-    add_twin_differences(cases, out)
-    checks = evaluate_checks(cases)
-    results = {
-        "program": "axmpm verify",
-        "quick": bool(quick),
-        "resolutions": list(resolutions),
-        "jobs": jobs,
-        "threads_per_run": threads,
-        "wall_seconds": time.perf_counter() - started,
-        "parameters": {
-            "height": HEIGHT, "density": DENSITY, "gravity": GRAVITY, "youngs_modulus": YOUNGS_MODULUS,
-            "poisson_ratio": 0.0, "material": "neo_hookean", "load_ratio": DENSITY * GRAVITY * HEIGHT / YOUNGS_MODULUS,
-            "cells_across": CELLS_ACROSS, "particles_per_cell": PARTICLES_PER_CELL, "ramp_periods": RAMP_PERIODS,
-            "settle_periods": SETTLE_PERIODS, "damping": DAMPING, "offset_widths": OFFSET_WIDTHS,
-            "stress_tolerance": STRESS_TOLERANCE, "displacement_tolerance": DISPLACEMENT_TOLERANCE,
-            "twin_tolerance": TWIN_TOLERANCE,
-        },
-        "passed": all(c["passed"] for c in checks),
-        "cases": cases,
-        "checks": checks,
-    }
-    figure_paths = make_figures(results, out) if figures else {}
-    results["figures"] = {k: str(Path(p).relative_to(out)) for k, p in figure_paths.items()}
-    _write_json(out / RESULTS, results)
-    (out / REPORT).write_text(render_report(results))
-    return results
-
-
-def _write_json(path: Path, data: dict[str, Any]) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
-    os.replace(tmp, path)
-
-
 # --------------------------------------------------------------------------- figures
 
 
 def make_figures(results: dict[str, Any], out: Path) -> dict[str, Path]:
     """Stress profiles (one figure per layout, schemes × modes) and the convergence plot."""
-    from .plotting import pyplot, save_figure
+    from ...study.plotting import pyplot, save_figure
 
     plt = pyplot()
     cases = results["cases"]
@@ -458,9 +335,9 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
     import numpy as np
 
     from . import exact
-    from .column import column_geometry
-    from .output import load_run
-    from .plotting import scheme_style
+    from .scenario import column_geometry
+    from ...output import load_run
+    from ...study.plotting import scheme_style
 
     schemes = [s for s in SCHEMES if any(c["scheme"] == s and c["layout"] == layout for c in cases)]
     if not schemes:
@@ -503,7 +380,7 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
 def _convergence_figure(plt: Any, cases: list[dict[str, Any]]) -> Any:
     from matplotlib.ticker import FormatStrFormatter, NullFormatter
 
-    from .plotting import scheme_style
+    from ...study.plotting import scheme_style
 
     fig, axes = plt.subplots(2, 2, figsize=(9.0, 7.0), squeeze=False)
     line_styles = {"plane_strain": "-", "axisymmetric_axis": "--", "axisymmetric_offset": ":"}
@@ -537,10 +414,6 @@ def _convergence_figure(plt: Any, cases: list[dict[str, Any]]) -> Any:
 
 
 # --------------------------------------------------------------------------- report
-
-
-def _pct(value: float | None, digits: int = 2) -> str:
-    return "—" if value is None else f"{100 * value:.{digits}f}"
 
 
 def _sig(value: float | None) -> str:
@@ -624,7 +497,7 @@ def _behaviour(cases: list[dict[str, Any]], scheme: str) -> str:
             errs = ", ".join(f"{_sig(c['stress_error'])} % (n={c['cells_along']})" for c in done)
             disp = ", ".join(f"{_sig(c['displacement_error'])} %" for c in done)
             bits.append(f"stress error {errs}; displacement error {disp}; largest local stress error "
-                        f"{_pct(max(c['max_stress_error'] for c in done), 0)} % of the extreme stress")
+                        f"{pct(max(c['max_stress_error'] for c in done), 0, signed=False, unit='')} % of the extreme stress")
         if failed:
             ns = ", ".join(str(c["cells_along"]) for c in failed)
             msg = failed[0]["message"]
@@ -704,28 +577,96 @@ def render_report(results: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-# --------------------------------------------------------------------------- command
+# --------------------------------------------------------------------------- the case
 
 
-def add_parser(sub: Any) -> None:
-    p = sub.add_parser(NAME, help="large-deformation column: all schemes vs the exact solution, with a report")
-    p.add_argument("--out", type=Path, default=Path("runs/verify"), help="output folder (default runs/verify)")
-    p.add_argument("--quick", action="store_true",
-                   help=f"coarser grids ({', '.join(map(str, QUICK_RESOLUTIONS))} cells instead of "
-                        f"{', '.join(map(str, FULL_RESOLUTIONS))})")
-    p.add_argument("--jobs", type=int, default=0, help="cases run in parallel, 0 = one per core (default)")
-    p.add_argument("--threads", type=int, default=1, help="engine threads per run (default 1)")
-    p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not a verify output")
+def parameters() -> dict[str, Any]:
+    return {
+        "height": HEIGHT, "density": DENSITY, "gravity": GRAVITY, "youngs_modulus": YOUNGS_MODULUS,
+        "poisson_ratio": 0.0, "material": "neo_hookean", "load_ratio": DENSITY * GRAVITY * HEIGHT / YOUNGS_MODULUS,
+        "cells_across": CELLS_ACROSS, "particles_per_cell": PARTICLES_PER_CELL, "ramp_periods": RAMP_PERIODS,
+        "settle_periods": SETTLE_PERIODS, "damping": DAMPING, "offset_widths": OFFSET_WIDTHS,
+        "stress_tolerance": STRESS_TOLERANCE, "displacement_tolerance": DISPLACEMENT_TOLERANCE,
+        "twin_tolerance": TWIN_TOLERANCE,
+    }
 
 
-def main(args: argparse.Namespace) -> int:
-    print(f"axmpm verify: {'quick' if args.quick else 'full'} run into {args.out}", flush=True)
-    results = verify(args.out, quick=args.quick, jobs=args.jobs, threads=max(1, args.threads),
-                     overwrite=args.overwrite)
-    failed = [c for c in results["checks"] if not c["passed"]]
-    for c in failed:
-        print(f"FAIL: {c['name']}: measured {c['measured']}, limit {c['comparison']} {c['limit']}"
-              + (f" ({c['note']})" if c.get("note") else ""))
-    print(f"{len(results['checks']) - len(failed)}/{len(results['checks'])} checks pass; "
-          f"{results['wall_seconds']:.1f} s; report: {Path(args.out) / REPORT}")
-    return 0 if not failed else 1
+def resolutions_of(options: argparse.Namespace) -> list[int]:
+    explicit = getattr(options, "column_resolutions", None)
+    if explicit:
+        return sorted({int(n) for n in explicit})
+    return list(QUICK_RESOLUTIONS if getattr(options, "quick", False) else FULL_RESOLUTIONS)
+
+
+class Column1D:
+    """The large-deformation 1D column against its exact solution (the default verification)."""
+
+    name = "column_1d"
+    kind = "verification"
+    title = "Large-deformation column under self-weight (all schemes, plane strain and axisymmetric)"
+    default = True
+
+    def add_options(self, parser: argparse.ArgumentParser) -> None:
+        parser.add_argument("--column-resolutions", type=int, nargs="+", default=None, metavar="N",
+                            help=f"column_1d: cells along the column (default {' '.join(map(str, FULL_RESOLUTIONS))}; "
+                            f"--quick: {' '.join(map(str, QUICK_RESOLUTIONS))})")
+
+    def runs(self, options: argparse.Namespace) -> list[RunSpec]:
+        return run_specs(resolutions_of(options))
+
+    def scenario(self, run: RunSpec) -> Any:
+        return column_run_scenario(run)
+
+    def reference(self, run: RunSpec) -> dict[str, Any]:
+        return column_reference(run)
+
+    def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
+        return column_metrics(run, run_dir)
+
+    def cost(self, run: RunSpec) -> float:
+        # particles × steps ∝ n²; grid work grows with the offset.
+        return run.params["cells_along"] ** 2 * (1.0 + 0.2 * run.params["offset_widths"] / 20)
+
+    def progress(self, record: dict[str, Any]) -> str:
+        if record["status"] == "completed" and record.get("stress_error") is not None:
+            return (f"stress {100 * record['stress_error']:.3f} %, "
+                    f"displacement {100 * record['displacement_error']:.3f} %")
+        return f"{record['status']}: {record['message']}"
+
+    def finish(self, results: list[dict[str, Any]], out: Path) -> None:
+        add_twin_differences(results, out)
+        for record in results:
+            record["passed"] = case_passes(record)
+
+    def checks(self, results: list[dict[str, Any]]) -> list[dict[str, Any]]:
+        return evaluate_checks(results)
+
+    def document(self, results: list[dict[str, Any]], options: argparse.Namespace) -> dict[str, Any]:
+        figures = getattr(results, "context", {}).get("figure_paths", {})
+        return {"resolutions": sorted({int(r["cells_along"]) for r in results}), "parameters": parameters(),
+                "figures": figures}
+
+    def report(self, results: list[dict[str, Any]], out: Path) -> str:
+        context = getattr(results, "context", {})
+        checks = context.get("checks")
+        if checks is None:
+            checks = evaluate_checks(results)
+        data = {
+            "cases": list(results),
+            "checks": checks,
+            "parameters": parameters(),
+            "passed": all(c["passed"] for c in checks),
+            "quick": bool(context.get("quick", False)),
+            "resolutions": sorted({int(r["cells_along"]) for r in results}),
+            "jobs": context.get("jobs", 1),
+            "threads_per_run": context.get("threads_per_run", 1),
+            "wall_seconds": context.get("wall_seconds", 0.0),
+        }
+        figures = make_figures(data, out) if context.get("figures", True) else {}
+        data["figures"] = {k: str(Path(p).relative_to(out)) for k, p in figures.items()}
+        if hasattr(results, "context"):
+            results.context["figure_paths"] = data["figures"]
+        return render_report(data)
+
+
+CASE = register(Column1D())

@@ -13,7 +13,7 @@ Note: output times that are multiples of T/2 sample the ringing at its turning p
 where the kinetic energy is zero, so a small final kinetic energy alone proves little.
 
 :func:`column_errors` compares a frame with the exact static solution in
-:mod:`axmpm.exact`.
+:mod:`axmpm.cases.column_1d.exact`.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import exact
-from .scenario import Scenario
+from ...scenario import Scenario
 
 __all__ = ["column_scenario", "column_errors", "ColumnErrors", "column_geometry", "stress_difference"]
 

@@ -3,7 +3,7 @@
 
 #[cfg(doc)]
 use super::bilinear_nodes;
-use super::{fast_floor, ParticleDomain, ShapeFunction, StencilBox};
+use super::{fast_floor, ParticleDomain, ShapeFunction, NodeBox};
 #[cfg(test)]
 use super::Stencil;
 use crate::grid::GridGeometry;
@@ -56,9 +56,9 @@ impl ShapeFunction for Linear {
     }
 
     #[inline(always)]
-    fn node_box(_: &GridGeometry, cache: &LinearCache, _: &ParticleDomain) -> StencilBox {
+    fn node_box(_: &GridGeometry, cache: &LinearCache, _: &ParticleDomain) -> NodeBox {
         let [ci, cj] = cache.cell;
-        StencilBox { columns: [ci, ci + 1], rows: [cj, cj + 1] }
+        NodeBox { columns: [ci, ci + 1], rows: [cj, cj + 1] }
     }
 }
 
@@ -72,7 +72,7 @@ pub struct LinearCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shape::testing::*;
+    use crate::interpolation::testing::*;
 
     #[test]
     fn partition_of_unity_and_zero_gradient_sum() {
@@ -90,7 +90,7 @@ mod tests {
                 let p = single_particle(x, [0.025; 2]);
                 Linear::stencil(&g, &p, 0, false, &mut st);
                 let mut reference = Stencil::default();
-                crate::shape::bilinear_nodes(&g, x, |node, w, d| reference.push(node, w, d));
+                crate::interpolation::bilinear_nodes(&g, x, |node, w, d| reference.push(node, w, d));
                 assert_eq!(st.len, reference.len, "at {x:?}");
                 for k in 0..st.len {
                     assert_eq!(st.node[k], reference.node[k]);

@@ -1,0 +1,74 @@
+//! A straight rigid wall on a grid line inside the grid, acting on the nodes of its line and
+//! beyond (away from the material side), optionally removed at a given time (column collapse:
+//! the gate is lifted).
+
+use super::{Constraint, NodalContext, NodeCondition};
+use crate::config::{Axis, Condition, Side, WallConfig};
+use crate::grid::GridGeometry;
+
+#[derive(Clone, Debug)]
+pub struct Wall {
+    pub name: String,
+    pub nodes: Vec<u32>,
+    pub condition: NodeCondition,
+    /// Time at which the wall disappears (`f64::INFINITY` = never).
+    pub removal_time: f64,
+    impulse: [f64; 2],
+}
+
+impl Wall {
+    /// The wall of `config`, or `None` for a free wall (it constrains nothing).
+    pub fn new(name: String, grid: &GridGeometry, config: &WallConfig) -> Option<Self> {
+        if config.condition == Condition::Free {
+            return None;
+        }
+        let axis = match config.axis {
+            Axis::X => 0usize,
+            Axis::Y => 1usize,
+        };
+        let outward = match config.material_side {
+            Side::Negative => 1.0,
+            Side::Positive => -1.0,
+        };
+        // Nodes within 1e-6 h of the wall line count as on it.
+        let tol = 1e-6 * grid.cell_size;
+        let nodes = (0..grid.num_nodes())
+            .filter(|&node| {
+                let x = grid.node_position(node)[axis];
+                match config.material_side {
+                    Side::Negative => x >= config.position - tol,
+                    Side::Positive => x <= config.position + tol,
+                }
+            })
+            .map(|node| node as u32)
+            .collect();
+        Some(Self {
+            name,
+            nodes,
+            condition: NodeCondition {
+                axis: axis as u8,
+                outward,
+                condition: config.condition,
+                coefficient: config.coefficient,
+            },
+            removal_time: config.removal_time.unwrap_or(f64::INFINITY),
+            impulse: [0.0; 2],
+        })
+    }
+}
+
+impl Constraint for Wall {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
+        if context.time < self.removal_time {
+            self.condition.correct_nodes(&self.nodes, context, velocity, record, &mut self.impulse);
+        }
+    }
+
+    fn take_impulse(&mut self) -> [f64; 2] {
+        std::mem::take(&mut self.impulse)
+    }
+}

@@ -1,0 +1,104 @@
+//! Grid update: v_i = p_i / m_i, a_i = (f_int + f_ext)_i / m_i (with Cundall local damping),
+//! v⁺_i = v_i + Δt a_i, then the constraints (grid faces, the axis, walls) correct the nodal
+//! velocities. Also the MUSL re-map's velocities from the re-mapped momentum.
+
+use rayon::prelude::*;
+
+use super::State;
+use crate::constraint::NodalContext;
+
+/// Nodal velocities before and after the momentum update, with damping and constraints.
+pub(super) fn update_grid(state: &mut State, dt: f64) {
+    let params = state.parameters;
+    let fields = &mut state.fields;
+    // Row by row over the region of this step (elsewhere every field is zero and stays so).
+    let region = state.scratch.grid_region;
+    let nx = state.grid.nodes[0];
+    let (first_row, rows) = region.row_span();
+    let columns = region.column_span(nx);
+    fields
+        .velocity
+        .par_chunks_mut(nx)
+        .zip(fields.velocity_new.par_chunks_mut(nx))
+        .zip(fields.mass.par_chunks(nx))
+        .zip(fields.momentum.par_chunks(nx))
+        .zip(fields.force.par_chunks(nx))
+        .skip(first_row)
+        .take(rows)
+        .with_min_len(4)
+        .flat_map_iter(|((((v, v_new), m), p), f)| {
+            let c = columns.clone();
+            v[c.clone()].iter_mut().zip(&mut v_new[c.clone()]).zip(&m[c.clone()]).zip(&p[c.clone()]).zip(&f[c])
+        })
+        .for_each(|((((v, v_new), &m), p), f)| {
+            if m > params.mass_threshold {
+                let v0 = [p[0] / m, p[1] / m];
+                let mut a = [0.0; 2];
+                for d in 0..2 {
+                    // Cundall local damping: the unbalanced force is reduced by α|f| against the motion.
+                    let damped = f[d] - params.damping * f[d].abs() * sign(v0[d]);
+                    a[d] = damped / m;
+                }
+                *v = v0;
+                *v_new = [v0[0] + dt * a[0], v0[1] + dt * a[1]];
+            } else {
+                *v = [0.0; 2];
+                *v_new = [0.0; 2];
+            }
+        });
+    // Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
+    // field), then on v⁺: that correction is the physical one, recorded as the reaction.
+    let context = NodalContext {
+        grid: &state.grid,
+        mass: &fields.mass,
+        time: state.time,
+        dt,
+        axisymmetric: params.axisymmetric,
+    };
+    state.constraints.apply(&context, &mut fields.velocity, false);
+    state.constraints.apply(&context, &mut fields.velocity_new, true);
+}
+
+#[inline(always)]
+fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// MUSL: nodal velocities from the re-mapped momentum, constrained; stored in `fields.velocity`.
+pub(super) fn remap_velocity(state: &mut State, dt: f64) {
+    let threshold = state.parameters.mass_threshold;
+    let fields = &mut state.fields;
+    let region = state.scratch.grid_region;
+    let nx = state.grid.nodes[0];
+    let (first_row, rows) = region.row_span();
+    let columns = region.column_span(nx);
+    fields
+        .velocity
+        .par_chunks_mut(nx)
+        .zip(fields.mass.par_chunks(nx))
+        .zip(fields.momentum.par_chunks(nx))
+        .skip(first_row)
+        .take(rows)
+        .with_min_len(4)
+        .for_each(|((v, m), p)| {
+            let c = columns.clone();
+            for ((v, &m), p) in v[c.clone()].iter_mut().zip(&m[c.clone()]).zip(&p[c]) {
+                *v = if m > threshold { [p[0] / m, p[1] / m] } else { [0.0; 2] };
+            }
+        });
+    let context = NodalContext {
+        grid: &state.grid,
+        mass: &fields.mass,
+        time: state.time,
+        dt,
+        axisymmetric: state.parameters.axisymmetric,
+    };
+    state.constraints.apply(&context, &mut fields.velocity, false);
+}
+

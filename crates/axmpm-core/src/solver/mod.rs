@@ -1,0 +1,185 @@
+//! One explicit MPM step (docs/physics.md §1), generic over the formulation `F` and the
+//! interpolation scheme `S`, so that each of the eight combinations is its own monomorphised
+//! loop. One file per pass, in the order of the step:
+//!
+//! 1. [`particle_to_grid`]: m_i, p_i and f_i = f_int + f_ext;
+//! 2. [`grid_update`]: a_i = (f_int + f_ext)_i / m_i (Cundall damping), v⁺_i = v_i + Δt a_i,
+//!    constraints;
+//! 3. [`grid_to_particle`]: FLIP/PIC velocity blend, Δx_p = Δt Σ S v⁺; MUSL re-map of the
+//!    momentum (Sulsky, Zhou & Schreyer 1995; USL skips it), constraints;
+//! 4. [`particle_update`]: L, F, volume, stress by the material, positions and CPDI corners.
+//!
+//! [`lanes`] makes the scatter of passes 1 and 3 race free and independent of the thread
+//! count; every other pass writes only its own particle or node. Results are therefore
+//! bit-for-bit identical for any number of threads.
+
+use crate::config::{UpdateScheme, VolumetricAveraging};
+use crate::constraint::Constraints;
+use crate::formulation::Formulation;
+use crate::grid::{GridFields, GridGeometry, NodeBox};
+use crate::interpolation::ShapeFunction;
+use crate::material::Material;
+use crate::particles::Particles;
+
+pub mod grid_to_particle;
+pub mod grid_update;
+pub mod lanes;
+pub mod particle_to_grid;
+pub mod particle_update;
+
+pub use lanes::{Lane, NodalSums, LANES};
+
+/// Per-particle scratch arrays reused every step (no allocation in the step loop).
+#[derive(Default)]
+pub struct Scratch {
+    /// `Vec<S::Cache>` of the scheme in use: each particle's stencil data, computed once per
+    /// step in particle → grid and reused by grid → particle and the particle update.
+    pub stencil_cache: Option<Box<dyn std::any::Any + Send + Sync>>,
+    pub displacement: Vec<[f64; 2]>,
+    /// Cell averaging only: each particle's velocity gradient, and per background cell the
+    /// particle volume and the volume-weighted mean dilatation (see `update_particles`).
+    pub velocity_gradient: Vec<[f64; 5]>,
+    pub cell_volume: Vec<f64>,
+    pub cell_dilatation: Vec<f64>,
+    /// Nodes the particles reached in the last particle → grid: every grid field is +0
+    /// outside this box (the grid passes write nothing else there, and constraints keep a
+    /// zero velocity zero).
+    pub grid_reached: NodeBox,
+    /// Nodes the grid passes of this step work on: this step's reach together with the last
+    /// step's, whose fields must be brought back to zero where the particles left.
+    pub grid_region: NodeBox,
+}
+
+/// Parameters of the step that do not change during a run.
+#[derive(Clone, Copy, Debug)]
+pub struct StepParameters {
+    pub flip_fraction: f64,
+    pub damping: f64,
+    pub scheme: UpdateScheme,
+    /// Nodes lighter than this carry no velocity (avoids dividing by vanishing GIMP masses).
+    pub mass_threshold: f64,
+    pub volumetric_averaging: VolumetricAveraging,
+    /// The formulation is axisymmetric (for the constraints; the passes know it from `F`).
+    pub axisymmetric: bool,
+}
+
+/// Everything the step mutates or reads.
+pub struct State {
+    pub grid: GridGeometry,
+    pub fields: GridFields,
+    pub lanes: Vec<Lane>,
+    pub scratch: Scratch,
+    pub particles: Particles,
+    pub materials: Vec<Box<dyn Material>>,
+    /// `state_names().len()` of each material: the part of a particle's state slots its
+    /// material uses (looked up per particle, so kept out of the virtual call).
+    pub state_lengths: Vec<usize>,
+    pub constraints: Constraints,
+    pub parameters: StepParameters,
+    pub time: f64,
+    pub steps: u64,
+    /// Wall seconds spent in each phase since the start of the run.
+    pub timings: PhaseTimings,
+}
+
+/// Wall-clock seconds per phase of the step (for `axmpm bench`).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct PhaseTimings {
+    pub particle_to_grid: f64,
+    pub grid_update: f64,
+    pub grid_to_particle: f64,
+    pub constitutive_update: f64,
+}
+
+/// Why a step produced an invalid state, for the first offending particle (lowest index).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Failure {
+    NotFinite { particle: usize },
+    LeftGrid { particle: usize, position: [f64; 2] },
+    InvertedJacobian { particle: usize, jacobian: f64 },
+}
+
+impl Failure {
+    fn particle(&self) -> usize {
+        match self {
+            Failure::NotFinite { particle }
+            | Failure::LeftGrid { particle, .. }
+            | Failure::InvertedJacobian { particle, .. } => *particle,
+        }
+    }
+
+    pub fn message(&self) -> String {
+        match self {
+            Failure::NotFinite { particle } => {
+                format!("particle {particle}: position, velocity or stress is not finite (NaN or infinite)")
+            }
+            Failure::LeftGrid { particle, position } => format!(
+                "particle {particle} left the grid at ({:.6e}, {:.6e}): material flowed out or separated (enlarge grid.extent if the motion is real)",
+                position[0], position[1]
+            ),
+            Failure::InvertedJacobian { particle, jacobian } => {
+                format!("particle {particle}: deformation gradient inverted (J = {jacobian:.3e})")
+            }
+        }
+    }
+}
+
+pub(super) fn first_failure(a: Option<Failure>, b: Option<Failure>) -> Option<Failure> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(if a.particle() <= b.particle() { a } else { b }),
+        (a, None) => a,
+        (None, b) => b,
+    }
+}
+
+impl State {
+    pub fn allocate_scratch(&mut self) {
+        let n = self.particles.len();
+        self.scratch.displacement = vec![[0.0; 2]; n];
+        if self.parameters.volumetric_averaging == VolumetricAveraging::Cell {
+            let cells = self.grid.cells[0] * self.grid.cells[1];
+            self.scratch.velocity_gradient = vec![[0.0; 5]; n];
+            self.scratch.cell_volume = vec![0.0; cells];
+            self.scratch.cell_dilatation = vec![0.0; cells];
+        }
+        self.lanes = (0..LANES).map(|_| Lane::new(self.grid.num_nodes())).collect();
+    }
+}
+
+/// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
+/// any (the state is then left as computed, for inspection).
+pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
+    let mut cache = take_stencil_cache::<S>(state);
+    let t0 = std::time::Instant::now();
+    // m_i, p_i and f_i = f_int + f_ext from the particles.
+    particle_to_grid::particle_to_grid::<F, S>(state, gravity, &mut cache);
+    let t1 = std::time::Instant::now();
+    // a_i = (f_int + f_ext)_i / m_i, v⁺_i = v_i + Δt a_i, constrained.
+    grid_update::update_grid(state, dt);
+    let t2 = std::time::Instant::now();
+    // v_p and Δx_p from v⁺ (FLIP/PIC); MUSL: momentum re-mapped, velocities constrained.
+    grid_to_particle::grid_to_particle::<F, S>(state, dt, &cache);
+    let t3 = std::time::Instant::now();
+    // L_p, F_p, V_p, σ_p, x_p.
+    let result = particle_update::update_particles::<F, S>(state, dt, &cache);
+    let t4 = std::time::Instant::now();
+    state.scratch.stencil_cache = Some(Box::new(cache));
+    state.timings.particle_to_grid += (t1 - t0).as_secs_f64();
+    state.timings.grid_update += (t2 - t1).as_secs_f64();
+    state.timings.grid_to_particle += (t3 - t2).as_secs_f64();
+    state.timings.constitutive_update += (t4 - t3).as_secs_f64();
+    state.time += dt;
+    state.steps += 1;
+    result
+}
+
+/// The scheme's per-particle stencil cache, kept in the scratch between steps (allocated on
+/// the first step only).
+fn take_stencil_cache<S: ShapeFunction>(state: &mut State) -> Vec<S::Cache> {
+    let n = state.particles.len();
+    match state.scratch.stencil_cache.take().map(|b| b.downcast::<Vec<S::Cache>>()) {
+        Some(Ok(cache)) if cache.len() == n => *cache,
+        _ => vec![S::Cache::default(); n],
+    }
+}
+

@@ -1,0 +1,312 @@
+//! Particle update: velocity gradient L = Σ_i v_i ⊗ ∇S_ip (+ the hoop rate
+//! L_θθ = Σ_i v_r,i S_ip / R_p), deformation gradient F ← (I + Δt L) F, volume, stress by the
+//! material, then position x_p ← x_p + Δx_p and the CPDI corners.
+
+use rayon::prelude::*;
+
+use super::{first_failure, Failure, Scratch, State};
+use crate::config::{UpdateScheme, VolumetricAveraging};
+use crate::formulation::Formulation;
+use crate::grid::GridGeometry;
+use crate::interpolation::{ParticleDomain, ShapeFunction};
+use crate::material::{Kinematics, Material};
+use crate::particles::{DeformationGradient, Particles, Stress};
+
+/// Particles per parallel work item of the update pass.
+const UPDATE_CHUNK: usize = 512;
+
+/// Read-only inputs of the per-particle update.
+#[derive(Clone, Copy)]
+struct UpdateInputs<'a> {
+    grid: GridGeometry,
+    dt: f64,
+    strain_velocity: &'a [[f64; 2]],
+    advect_velocity: &'a [[f64; 2]],
+    materials: &'a [Box<dyn Material>],
+    state_lengths: &'a [usize],
+    material_ids: &'a [u32],
+    initial_volume: &'a [f64],
+    initial_half_width: &'a [[f64; 2]],
+    velocity: &'a [[f64; 2]],
+    displacement: &'a [[f64; 2]],
+}
+
+/// The mutable state of one particle in the update pass.
+struct ParticleUpdate<'a> {
+    f: &'a mut [f64; 5],
+    stress: &'a mut [f64; 4],
+    volume: &'a mut f64,
+    position: &'a mut [f64; 2],
+    state: &'a mut [f64],
+    corners: Option<&'a mut [[f64; 2]; 4]>,
+}
+
+/// Velocity gradient of one particle from the stencil at its start-of-step position and
+/// domain: L_ij = Σ_i v_i ∂S_ip/∂x_j, and the hoop rate L_θθ = Σ v_r,i S_ip / R_p (0 in plane
+/// strain). Stored as [L11, L12, L21, L22, L33].
+#[inline(always)]
+fn velocity_gradient<F: Formulation, S: ShapeFunction>(
+    inputs: &UpdateInputs,
+    domain: &ParticleDomain,
+    cache: &S::Cache,
+) -> [f64; 5] {
+    let mut l = [0.0; 5];
+    let mut vr = 0.0;
+    S::visit_entries(&inputs.grid, cache, domain, F::AXISYMMETRIC, |node, w, dw| {
+        let v = inputs.strain_velocity[node];
+        l[0] += v[0] * dw[0];
+        l[1] += v[0] * dw[1];
+        l[2] += v[1] * dw[0];
+        l[3] += v[1] * dw[1];
+        vr += v[0] * w;
+    });
+    l[4] = vr * F::hoop_factor(domain.position);
+    l
+}
+
+/// Volumetric strain rate tr L (the hoop rate included; it is zero in plane strain).
+#[inline(always)]
+fn dilatation(l: &[f64; 5]) -> f64 {
+    l[0] + l[3] + l[4]
+}
+
+/// Replaces the volumetric part of L by `mean_dilatation`, spread equally over the normal
+/// components that can stretch: the two in-plane ones in plane strain (L33 = 0 is kept), and
+/// the in-plane and hoop ones in axisymmetry. The rate form of F-bar (mean dilatation,
+/// Nagtegaal, Parks & Rice 1974; for MPM with the background cell as the averaging domain,
+/// Coombs, Charlton, Cortis & Augarde 2018, CMAME 333): the isochoric part stays the
+/// particle's own, so plastic flow with zero dilation (ψ = 0) is not over-constrained by the
+/// one-velocity-field-per-cell kinematics (volumetric locking).
+#[inline(always)]
+fn with_mean_dilatation<F: Formulation>(mut l: [f64; 5], mean_dilatation: f64) -> [f64; 5] {
+    let components = if F::AXISYMMETRIC { 3.0 } else { 2.0 };
+    let correction = (mean_dilatation - dilatation(&l)) / components;
+    l[0] += correction;
+    l[3] += correction;
+    if F::AXISYMMETRIC {
+        l[4] += correction;
+    }
+    l
+}
+
+/// Deformation gradient, CPDI corners, position, volume and stress of one particle from its
+/// velocity gradient `l` (and its stencil cache of the step, which the corner advection
+/// reuses); returns a failure if its new state is invalid.
+#[inline(always)]
+fn update_particle<F: Formulation, S: ShapeFunction>(
+    inputs: &UpdateInputs,
+    p: usize,
+    u: ParticleUpdate,
+    cache: &S::Cache,
+    l: [f64; 5],
+) -> Option<Failure> {
+    let grid = &inputs.grid;
+    let dt = inputs.dt;
+    // F ← (I + Δt L) F in-plane; F33 ← (1 + Δt L33) F33.
+    let f = u.f;
+    let f_old = *f;
+    let a = [1.0 + dt * l[0], dt * l[1], dt * l[2], 1.0 + dt * l[3]];
+    f[0] = a[0] * f_old[0] + a[1] * f_old[2];
+    f[1] = a[0] * f_old[1] + a[1] * f_old[3];
+    f[2] = a[2] * f_old[0] + a[3] * f_old[2];
+    f[3] = a[2] * f_old[1] + a[3] * f_old[3];
+    f[4] = (1.0 + dt * l[4]) * f_old[4];
+    let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
+
+    let x = u.position;
+    let d = inputs.displacement[p];
+    x[0] += d[0];
+    x[1] += d[1];
+    *u.volume = match u.corners {
+        Some(corners) => {
+            S::advect_corners(grid, cache, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
+            S::domain_area(corners).unwrap_or(0.0) * F::volume_factor(*x)
+        }
+        None => inputs.initial_volume[p] * jacobian,
+    };
+    let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, dt };
+    let material = &inputs.materials[inputs.material_ids[p] as usize];
+    material.update_stress(u.stress, u.state, &kinematics);
+
+    let finite = x[0].is_finite()
+        && x[1].is_finite()
+        && u.stress.iter().all(|s| s.is_finite())
+        && inputs.velocity[p].iter().all(|v| v.is_finite());
+    if !finite {
+        Some(Failure::NotFinite { particle: p })
+    } else if !grid.contains(*x) || (F::AXISYMMETRIC && x[0] <= 0.0) {
+        Some(Failure::LeftGrid { particle: p, position: *x })
+    } else if !(jacobian > 0.0) {
+        Some(Failure::InvertedJacobian { particle: p, jacobian })
+    } else {
+        None
+    }
+}
+
+/// Where the velocity gradient of each particle comes from in the update pass.
+#[derive(Clone, Copy)]
+enum GradientSource<'a> {
+    /// Computed from the stencil in the same pass (no averaging).
+    Stencil,
+    /// Precomputed per particle, with the volumetric part replaced by the mean dilatation of
+    /// the particle's cell.
+    CellAveraged { gradients: &'a [[f64; 5]], cell_mean_dilatation: &'a [f64] },
+}
+
+/// Velocity gradient, deformation gradient, volume, stress and position of every particle, in
+/// one pass (each particle reads its start-of-step position and domain before moving them).
+/// With cell averaging a first pass stores every velocity gradient and sums the cells.
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
+pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
+    state: &mut State,
+    dt: f64,
+    cache: &[S::Cache],
+) -> Result<(), Failure> {
+    let averaging = state.parameters.volumetric_averaging == VolumetricAveraging::Cell;
+    let Scratch { displacement, velocity_gradient: gradients, cell_volume, cell_dilatation, .. } = &mut state.scratch;
+    let particles = &mut state.particles;
+    // At least one state slot per particle (set up in `Simulation::build`), so the zipped
+    // state chunks below stay aligned with the particles.
+    let stride = particles.state_stride;
+    debug_assert!(stride >= 1 && particles.state.len() == particles.len() * stride);
+    let inputs = UpdateInputs {
+        grid: state.grid,
+        dt,
+        // Strain rate from the re-mapped (MUSL) or updated (USL) velocities; corners move with
+        // the updated velocities, like the particle positions.
+        strain_velocity: if state.parameters.scheme == UpdateScheme::Musl {
+            &state.fields.velocity
+        } else {
+            &state.fields.velocity_new
+        },
+        advect_velocity: &state.fields.velocity_new,
+        materials: &state.materials,
+        state_lengths: &state.state_lengths,
+        material_ids: &particles.material,
+        initial_volume: &particles.initial_volume,
+        initial_half_width: &particles.initial_half_width,
+        velocity: &particles.velocity,
+        displacement,
+    };
+    let source = if averaging {
+        cell_averaged_gradients::<F, S>(&inputs, particles, cache, gradients, cell_volume, cell_dilatation);
+        GradientSource::CellAveraged { gradients, cell_mean_dilatation: cell_dilatation }
+    } else {
+        GradientSource::Stencil
+    };
+    let gradient = |inputs: &UpdateInputs, p: usize, domain: &ParticleDomain, c: &S::Cache| match source {
+        GradientSource::Stencil => velocity_gradient::<F, S>(inputs, domain, c),
+        GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
+            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[inputs.grid.cell_index(domain.position)])
+        }
+    };
+    // One chunk of particles, its arrays as slices of one length: a plain loop per chunk
+    // instead of rayon's per-item plumbing (zipped producers, a reduction per particle).
+    #[allow(clippy::too_many_arguments)]
+    let update_chunk = |k: usize,
+                        f: &mut [DeformationGradient],
+                        stress: &mut [Stress],
+                        volume: &mut [f64],
+                        position: &mut [[f64; 2]],
+                        state: &mut [f64],
+                        cache: &[S::Cache],
+                        mut corners: Option<&mut [[[f64; 2]; 4]]>|
+     -> Option<Failure> {
+        // A local copy, kept in registers across the particle's stores (see P2G); not redundant.
+        #[allow(clippy::redundant_locals)]
+        let inputs = inputs;
+        let first = k * UPDATE_CHUNK;
+        let n = f.len();
+        let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
+        let initial_half_width = &inputs.initial_half_width[first..first + n];
+        let material_ids = &inputs.material_ids[first..first + n];
+        let mut failure = None;
+        for i in 0..n {
+            let p = first + i;
+            let corners = corners.as_mut().map(|c| &mut c[i]);
+            let domain = ParticleDomain {
+                position: position[i],
+                initial_half_width: initial_half_width[i],
+                deformation_gradient: &f[i],
+                corners: corners.as_deref(),
+            };
+            let l = gradient(&inputs, p, &domain, &cache[i]);
+            let slots = i * stride..i * stride + inputs.state_lengths[material_ids[i] as usize];
+            let u = ParticleUpdate {
+                f: &mut f[i],
+                stress: &mut stress[i],
+                volume: &mut volume[i],
+                position: &mut position[i],
+                state: &mut state[slots],
+                corners,
+            };
+            let result = update_particle::<F, S>(&inputs, p, u, &cache[i], l);
+            // The lowest failing index of the chunk (chunks are then reduced the same way).
+            if failure.is_none() {
+                failure = result;
+            }
+        }
+        failure
+    };
+    let chunks = particles
+        .deformation_gradient
+        .par_chunks_mut(UPDATE_CHUNK)
+        .zip(particles.stress.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.volume.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.position.par_chunks_mut(UPDATE_CHUNK))
+        .zip(particles.state.par_chunks_mut(UPDATE_CHUNK * stride))
+        .zip(cache.par_chunks(UPDATE_CHUNK));
+    let failure = if S::USES_CORNERS {
+        chunks
+            .zip(particles.corners.par_chunks_mut(UPDATE_CHUNK))
+            .enumerate()
+            .map(|(k, ((((((f, stress), volume), position), s), c), corners))| {
+                update_chunk(k, f, stress, volume, position, s, c, Some(corners))
+            })
+            .reduce(|| None, first_failure)
+    } else {
+        chunks
+            .enumerate()
+            .map(|(k, (((((f, stress), volume), position), s), c))| update_chunk(k, f, stress, volume, position, s, c, None))
+            .reduce(|| None, first_failure)
+    };
+    failure.map_or(Ok(()), Err)
+}
+
+/// First pass of the cell-averaged update: every particle's velocity gradient into
+/// `gradients`, then the volume-weighted mean dilatation of each background cell,
+/// Σ_p V_p tr L_p / Σ_p V_p over the particles whose centre lies in the cell, into
+/// `cell_dilatation`. The cell sums run in particle order on one thread, so they do not
+/// depend on the thread count (one add per particle; cheap next to the stencil work).
+fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
+    inputs: &UpdateInputs,
+    particles: &Particles,
+    cache: &[S::Cache],
+    gradients: &mut [[f64; 5]],
+    cell_volume: &mut [f64],
+    cell_dilatation: &mut [f64],
+) {
+    gradients
+        .par_iter_mut()
+        .zip(cache.par_iter())
+        .enumerate()
+        .with_min_len(256)
+        .for_each(|(p, (l, c))| {
+            let domain = ParticleDomain::of(particles, p);
+            *l = velocity_gradient::<F, S>(inputs, &domain, c);
+        });
+    let grid = &inputs.grid;
+    cell_volume.fill(0.0);
+    cell_dilatation.fill(0.0);
+    for ((x, &v), l) in particles.position.iter().zip(&particles.volume).zip(gradients.iter()) {
+        let cell = grid.cell_index(*x);
+        cell_volume[cell] += v;
+        cell_dilatation[cell] += v * dilatation(l);
+    }
+    for (d, &v) in cell_dilatation.iter_mut().zip(cell_volume.iter()) {
+        if v > 0.0 {
+            *d /= v;
+        }
+    }
+}
+

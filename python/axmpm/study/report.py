@@ -1,0 +1,37 @@
+"""Number formatting shared by the Markdown reports and terminal tables."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+__all__ = ["DASH", "number", "pct", "fmt"]
+
+#: What a table cell shows for a missing value.
+DASH = "—"
+
+
+def number(value: Any) -> float | None:
+    """``value`` as a finite float, or None (None, "", text that is not a number, NaN, inf)."""
+    if value is None or value == "" or isinstance(value, bool):
+        return None
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        return None
+    return x if math.isfinite(x) else None
+
+
+def pct(value: Any, digits: int = 1, *, signed: bool = True, unit: str = " %") -> str:
+    """A fraction as a percentage: ``pct(-0.123)`` → ``"-12.3 %"``; ``pct(0.05, 0)`` → ``"+5 %"``;
+    ``pct(0.0123, 2, signed=False, unit="")`` → ``"1.23"``; :data:`DASH` when there is no number."""
+    x = number(value)
+    if x is None:
+        return DASH
+    return f"{100 * x:{'+' if signed else ''}.{digits}f}{unit}"
+
+
+def fmt(value: Any, spec: str = ".3g") -> str:
+    """``format(value, spec)``, or :data:`DASH` when there is no number."""
+    x = number(value)
+    return DASH if x is None else format(x, spec)
