@@ -174,9 +174,9 @@ impl Polygon {
 
     /// The faces a point inside (or on) the polygon is nearest to, for contact: the signed
     /// distance, the outward normal of the nearest edge (an edge normal, also on a vertex), and
-    /// the outward normal of another edge within `tie` of that distance (at a corner, the other
-    /// face), if any.
-    pub fn nearest_faces(&self, x: [f64; 2], tie: f64) -> (f64, [f64; 2], Option<[f64; 2]>) {
+    /// the outward normal of the nearest other edge (with another normal) if that edge is
+    /// within the distance `within` of the point (at a corner, the other face).
+    pub fn nearest_faces(&self, x: [f64; 2], within: f64) -> (f64, [f64; 2], Option<[f64; 2]>) {
         let n = self.vertices.len();
         let mut nearest = (f64::INFINITY, 0usize);
         let mut second: Option<(f64, usize)> = None;
@@ -187,11 +187,14 @@ impl Polygon {
             let d = sub(x, [a[0] + t * e[0], a[1] + t * e[1]]);
             let distance = dot(d, d).sqrt();
             if distance < nearest.0 {
-                if nearest.0 <= distance + tie {
+                if nearest.0 <= within && dot(self.normals[nearest.1], self.normals[i]) < 1.0 - 1e-12 {
                     second = Some(nearest);
                 }
                 nearest = (distance, i);
-            } else if second.is_none_or(|(sd, _)| distance < sd) {
+            } else if distance <= within
+                && second.is_none_or(|(sd, _)| distance < sd)
+                && dot(self.normals[nearest.1], self.normals[i]) < 1.0 - 1e-12
+            {
                 second = Some((distance, i));
             }
         }
@@ -199,7 +202,7 @@ impl Polygon {
         let signed = if inside { -nearest.0 } else { nearest.0 };
         let first = self.normals[nearest.1];
         let other = second
-            .filter(|&(d, i)| d <= nearest.0 + tie && dot(self.normals[i], first) < 1.0 - 1e-12)
+            .filter(|&(d, i)| d <= within && dot(self.normals[i], first) < 1.0 - 1e-12)
             .map(|(_, i)| self.normals[i]);
         (signed, first, other)
     }
@@ -483,10 +486,10 @@ mod tests {
     #[test]
     fn nearest_faces_reports_both_faces_at_a_corner() {
         let p = Polygon::new(vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]).unwrap();
-        let (_, n, second) = p.nearest_faces([0.999, 0.0005], 1e-3);
+        let (_, n, second) = p.nearest_faces([0.999, 0.0005], 1.5e-3);
         assert_eq!(n, [0.0, -1.0]);
         assert_eq!(second, Some([1.0, 0.0]));
-        let (_, n, second) = p.nearest_faces([0.9, 0.0005], 1e-3);
+        let (_, n, second) = p.nearest_faces([0.9, 0.0005], 1.5e-3);
         assert_eq!((n, second), ([0.0, -1.0], None));
     }
 
