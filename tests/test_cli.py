@@ -229,7 +229,7 @@ def test_settled_rule_on_series():
     total: a curve that has flattened is settled, one still rising or bouncing is not."""
     from types import SimpleNamespace
 
-    from axmpm.runner import _settled
+    from axmpm.run.runner import _settled
 
     cfg = SimpleNamespace(stop_when_settled=1e-3, settle_window=0.1, stop_at_rest_after=0.2)
     times = [0.02 * k for k in range(31)]

@@ -192,3 +192,52 @@ def test_mu_i_bad_keys_are_named(change, key):
     with pytest.raises(ScenarioError) as err:
         material_point(material, np.zeros((1, 5)), 1e-3)
     assert key in str(err.value)
+
+
+# --------------------------------------------------------------------------- apex, any principal order
+
+
+def _stress(principal, in_plane_angle=0.0):
+    """Stress [11, 22, 33, 12] with in-plane principal values principal[0], principal[1] (axes
+    rotated by ``in_plane_angle``) and σ33 = principal[2]."""
+    a, b, c = principal
+    centre, half = 0.5 * (a + b), 0.5 * (a - b)
+    return [centre + half * math.cos(2 * in_plane_angle), centre - half * math.cos(2 * in_plane_angle), c,
+            half * math.sin(2 * in_plane_angle)]
+
+
+def _return(material, stress):
+    """One step without deformation: the return mapping of the trial ``stress`` itself."""
+    return material_point(material, np.zeros((1, 5)), 1e-3, stress).stresses[0]
+
+
+APEX_MATERIAL = dict(mc(phi=30.0, psi=0.0, c=1.0e4), tension_cutoff=1.0e9)  # cut-off clamped: none
+APEX = 1.0e4 / math.tan(math.radians(30.0))  # c cot φ
+
+
+@pytest.mark.parametrize("order", [(0, 1, 2), (2, 1, 0), (1, 0, 2), (0, 2, 1), (2, 0, 1), (1, 2, 0)])
+@pytest.mark.parametrize("angle", [0.0, 0.3, 1.2])
+def test_mohr_coulomb_apex_return_whatever_the_order_of_the_principal_stresses(order, angle):
+    """A trial beyond the apex (all three principal stresses above c cot φ) returns to the apex
+    (c cot φ, c cot φ, c cot φ), whichever of σ11, σ22, σ33 holds the largest principal stress:
+    (2, 1, 0) is the reversed order, the out-of-plane stress the largest."""
+    principal = (3.0e4, 2.6e4, 2.2e4)
+    trial = _stress([principal[i] for i in order], angle)
+    np.testing.assert_allclose(_return(APEX_MATERIAL, trial), [APEX, APEX, APEX, 0.0], rtol=1e-12, atol=1e-6 * APEX)
+
+
+@pytest.mark.parametrize("principal", [
+    (3.0e4, 2.6e4, 2.2e4),  # apex
+    (2.0e4, -1.0e5, -1.2e5),  # edge and plane returns around the apex
+    (1.5e4, 1.4e4, -8.0e4),
+    (-1.0e4, -1.5e4, -9.0e4),
+])
+@pytest.mark.parametrize("cutoff", [1.0e9, 5.0e3])
+def test_mohr_coulomb_return_is_the_same_for_reversed_principal_stresses(principal, cutoff):
+    """The return map is isotropic: reversing which component holds which principal stress
+    reverses the returned stress (σ11 ↔ σ33 swapped), with or without a tension cut-off."""
+    material = dict(mc(phi=30.0, psi=5.0, c=1.0e4), tension_cutoff=cutoff)
+    forward = _return(material, _stress(principal))
+    reversed_ = _return(material, _stress(principal[::-1]))
+    np.testing.assert_allclose(reversed_[[2, 1, 0, 3]], forward, rtol=1e-12, atol=1e-9 * max(map(abs, principal)))
+    assert not np.allclose(forward, _stress(principal))  # plastic: the trial was outside

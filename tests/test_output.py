@@ -13,7 +13,7 @@ import pytest
 
 import axmpm
 from axmpm.errors import RunError
-from axmpm.output import stress_names
+from axmpm.run.output import stress_names
 
 from conftest import TINY_TOML
 

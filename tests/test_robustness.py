@@ -17,10 +17,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import axmpm.runner as runner
+import axmpm.run.runner as runner
 from axmpm.cli import main
-from axmpm.output import CHECKPOINT, HistoryWriter, load_run, read_checkpoint, write_json, write_text
-from axmpm.runner import checkpoint_every, resume, run
+from axmpm.run.output import CHECKPOINT, HistoryWriter, load_run, read_checkpoint, write_json, write_text
+from axmpm.run.runner import checkpoint_every, resume, run
 from axmpm.scenario import Scenario, ScenarioError, apply_overrides
 
 from conftest import SETTLED_STOP, TINY_TOML, settling_block
@@ -219,7 +219,9 @@ def test_schema_is_valid_json_listing_the_sections(capsys) -> None:
     assert set(schema["required"]) == {"simulation", "grid", "materials", "bodies"}
     defs = schema["$defs"]
     assert "checkpoint_interval" in defs["Simulation"]["properties"]
-    assert defs["Body"]["properties"]["allow_overlap"]["default"] is False
+    body = schema["properties"]["bodies"]["items"]["$ref"].rsplit("/", 1)[-1]  # one def per region shape
+    assert defs[body]["properties"]["allow_overlap"]["default"] is False
+    assert defs[body]["properties"]["shape"]["default"] == "rectangle"
 
 
 def test_out_folder_refused_unless_overwrite(capsys, tiny_toml: Path, tmp_path: Path) -> None:
@@ -338,6 +340,12 @@ def test_interrupt_in_process_then_resume(monkeypatch, tmp_path: Path) -> None:
     assert read_checkpoint(out).time == 0.025 and len(load_run(out).frames) == 2
     assert resume(out, threads=1)["status"] == "completed"
     assert_same_final_state(full, out)
+    # the reactions of the resumed rows too (the engine's accumulators restart at the checkpoint)
+    a, b = load_run(full), load_run(out)
+    assert set(a.reactions) == set(b.reactions) == {"left", "bottom"}
+    for name in a.reactions:
+        np.testing.assert_array_equal(a.reactions[name], b.reactions[name])
+    assert a.summary["reactions"] == b.summary["reactions"]
 
 
 def test_resume_refusals(capsys, tmp_path: Path) -> None:

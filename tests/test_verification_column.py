@@ -30,7 +30,7 @@ CASES = {
 
 
 @pytest.fixture(scope="module")
-def column_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, axmpm.output.Run]:
+def column_runs(tmp_path_factory: pytest.TempPathFactory) -> dict[str, axmpm.run.output.Run]:
     folder = tmp_path_factory.mktemp("column")
     runs = {}
     for name, kwargs in CASES.items():

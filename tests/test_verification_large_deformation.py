@@ -16,7 +16,7 @@ WIDTH = 2 / CELLS_ALONG
 
 
 @pytest.fixture(scope="module")
-def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, str], axmpm.output.Run]:
+def runs(tmp_path_factory: pytest.TempPathFactory) -> dict[tuple[str, str], axmpm.run.output.Run]:
     folder = tmp_path_factory.mktemp("large")
     result = {}
     for mode in ("compression", "tension"):

@@ -10,12 +10,12 @@ __version__ = "0.1.0"
 
 def __getattr__(name: str):
     # Lazy: importing axmpm must not need the compiled engine or matplotlib.
-    if name == "run":
-        from .runner import run
+    if name == "run":  # the package axmpm.run, callable as axmpm.run(scenario, out, ...)
+        import importlib
 
-        return run
+        return importlib.import_module(".run", __name__)
     if name == "load_run":
-        from .output import load_run
+        from .run.output import load_run
 
         return load_run
     if name == "material_point":

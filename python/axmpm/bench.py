@@ -19,8 +19,20 @@ from typing import Any
 
 NAME = "bench"
 
-SCHEMES = ("linear", "ugimp", "cpgimp", "cpdi2")
-FORMULATIONS = ("axisymmetric", "plane_strain")
+
+
+def schemes() -> tuple[str, ...]:
+    """Every interpolation scheme of the engine (axmpm.catalogue)."""
+    from .catalogue import interpolation_schemes
+
+    return interpolation_schemes()
+
+
+def formulations() -> tuple[str, ...]:
+    """Every formulation of the engine, axisymmetric first."""
+    from .catalogue import formulations as engine_formulations
+
+    return tuple(sorted(engine_formulations()))
 
 
 def bench_scenario(formulation: str, scheme: str, cell_size: float = 0.0005) -> dict[str, Any]:
@@ -119,8 +131,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(NAME, help="measure engine throughput (particle-steps per second)")
     p.add_argument("--threads", type=int, action="append", default=None,
                    help="thread count to measure (repeatable; default: 1 and all cores)")
-    p.add_argument("--schemes", default=",".join(SCHEMES), help="comma-separated schemes")
-    p.add_argument("--formulations", default=",".join(FORMULATIONS), help="comma-separated formulations")
+    p.add_argument("--schemes", default=None, help="comma-separated schemes (default: all)")
+    p.add_argument("--formulations", default=None, help="comma-separated formulations (default: both)")
     p.add_argument("--steps", type=int, default=100, help="timed steps per measurement (default 100)")
     p.add_argument("--warmup", type=int, default=10, help="untimed steps first (default 10)")
     p.add_argument("--cell-size", type=float, default=0.0005,
@@ -141,8 +153,10 @@ def _validated_list(text: str, allowed: tuple[str, ...], name: str) -> list[str]
 def main(args: argparse.Namespace) -> int:
     from .errors import RunError
 
-    schemes = _validated_list(args.schemes, SCHEMES, "schemes")
-    formulations = _validated_list(args.formulations, FORMULATIONS, "formulations")
+    all_schemes, all_formulations = schemes(), formulations()
+    chosen_schemes = _validated_list(args.schemes or ",".join(all_schemes), all_schemes, "schemes")
+    chosen_formulations = _validated_list(args.formulations or ",".join(all_formulations), all_formulations,
+                                          "formulations")
     from .study.parallel import available_cores
 
     cores = available_cores()
@@ -152,8 +166,8 @@ def main(args: argparse.Namespace) -> int:
     if args.steps < 1 or args.warmup < 0 or not args.cell_size > 0:
         raise RunError("--steps must be >= 1, --warmup >= 0 and --cell-size > 0")
     results = []
-    for formulation in formulations:
-        for scheme in schemes:
+    for formulation in chosen_formulations:
+        for scheme in chosen_schemes:
             for t in threads:
                 r = measure(formulation, scheme, t, args.steps, args.warmup, args.cell_size)
                 results.append(r)

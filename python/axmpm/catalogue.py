@@ -1,33 +1,30 @@
 """The one list of what the engine offers: formulations, interpolation schemes, material models
-and region shapes.
+and region shapes, as the engine reports them (``axmpm._core.catalogue()``, from its registries).
 
-The scenario schema (``axmpm.scenario``), ``axmpm bench``, the plots and the tests read these
-names from here and nowhere else. The engine reports them itself through
-``axmpm._core.catalogue()``; until that binding is available, :data:`_BUILT_IN` mirrors it.
-Switching over is the one line in :func:`catalogue`.
+The scenario schema (``axmpm.scenario``), ``axmpm bench``, the verification case and the tests
+read these names from here; nothing in Python repeats them. The engine is loaded on first use
+(``import axmpm`` stays light).
 """
 
 from __future__ import annotations
 
 from functools import lru_cache
 
-__all__ = ["catalogue", "formulations", "interpolation_schemes", "material_models", "region_shapes"]
+__all__ = ["catalogue", "formulations", "interpolation_schemes", "material_models", "region_shapes", "one_of"]
 
-#: The engine's lists as of this commit (crates/axmpm-core: config.rs FormulationKind and
-#: ShapeFunctionKind, material/mod.rs build, setup.rs rectangles), in the engine's order.
-_BUILT_IN: dict[str, tuple[str, ...]] = {
-    "formulations": ("plane_strain", "axisymmetric"),
-    "interpolation_schemes": ("linear", "ugimp", "cpgimp", "cpdi2"),
-    "material_models": ("linear_elastic", "neo_hookean", "mohr_coulomb"),
-    "region_shapes": ("rectangle",),
-}
+KEYS = ("formulations", "interpolation_schemes", "material_models", "region_shapes")
 
 
 @lru_cache(maxsize=1)
 def catalogue() -> dict[str, tuple[str, ...]]:
-    """``{"formulations", "interpolation_schemes", "material_models", "region_shapes"}`` → names."""
-    lists = _BUILT_IN  # TODO(engine catalogue): lists = _core.catalogue() once the binding is on main
-    return {key: tuple(lists[key]) for key in _BUILT_IN}
+    """``{"formulations", "interpolation_schemes", "material_models", "region_shapes"}`` → names,
+    in the engine's order."""
+    try:
+        from . import _core  # type: ignore[attr-defined]
+    except ImportError as exc:  # pragma: no cover - depends on the build
+        raise ImportError(f"the compiled engine axmpm._core is not available ({exc}); run `make install`") from None
+    lists = _core.catalogue()
+    return {key: tuple(lists[key]) for key in KEYS}
 
 
 def formulations() -> tuple[str, ...]:
@@ -44,3 +41,9 @@ def material_models() -> tuple[str, ...]:
 
 def region_shapes() -> tuple[str, ...]:
     return catalogue()["region_shapes"]
+
+
+def one_of(names: tuple[str, ...] | list[str]) -> str:
+    """``'a', 'b' or 'c'``: how messages list the choices."""
+    quoted = [repr(n) for n in names]
+    return quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " or " + quoted[-1]

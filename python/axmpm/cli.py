@@ -1,8 +1,9 @@
 """The ``axmpm`` command.
 
-Exit codes: 0 success; 2 bad input (scenario, overrides, output folder), one
-``error: dotted.key: message`` line per problem on stderr and no traceback; 3 the
-simulation failed (the engine's reason is printed and recorded in summary.json);
+Exit codes: 0 success; 2 bad input (scenario, overrides, output folder, a run folder another
+process is writing), one ``error: dotted.key: message`` line per problem on stderr and no
+traceback; 3 the run failed: the simulation (the engine's reason) or writing its output (the
+file and the reason), printed and recorded in summary.json wherever it can still be written;
 130 interrupted (Ctrl-C).
 """
 
@@ -65,7 +66,7 @@ def _parser() -> argparse.ArgumentParser:
 #: (adds its argparse sub-parser) and ``main(args) -> int`` (runs it, returns the exit code).
 #: Adding a command = one new module + one line here.
 COMMAND_MODULES: tuple[str, ...] = (
-    "axmpm.resume",
+    "axmpm.run.resume",
     "axmpm.cases.verify",
     "axmpm.bench",
     "axmpm.study.sweep",
@@ -101,13 +102,17 @@ def _report_run(summary: dict, out: Path) -> int:
           f"{summary['particles']} particles, {summary['wall_seconds']:.2f} s wall, "
           f"{summary['particle_steps_per_second']:.3g} particle-steps/s; output in {out}")
     if status == "failed":
-        print(f"error: simulation failed: {summary['message']}", file=sys.stderr)
+        what = {"output": "writing the output failed", "error": "the run failed"}.get(
+            summary.get("failure", ""), "simulation failed")
+        print(f"error: {what}: {summary['message']}", file=sys.stderr)
+        if summary.get("summary_not_written"):
+            print(f"error: summary.json not updated: {summary['summary_not_written']}", file=sys.stderr)
         return EXIT_FAILED
     return EXIT_OK
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .runner import run
+    from .run import run
     from .scenario import Scenario
 
     scenario = Scenario.from_toml(args.scenario, args.overrides)

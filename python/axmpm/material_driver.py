@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from pydantic import TypeAdapter, ValidationError
 
 from .errors import ScenarioError
-from .scenario import Material, _convert_errors
+from .scenario import Material, convert_errors
 
 __all__ = ["material_point", "MaterialPointResponse", "validate_material", "drained_triaxial",
            "TriaxialResult", "yield_ratio"]
@@ -41,7 +41,9 @@ _ADAPTER: TypeAdapter[Any] = TypeAdapter(Material)
 
 def _strip_tag(key: str) -> str:
     """Drop the discriminator tag pydantic puts in front of a field (``mohr_coulomb.cohesion``)."""
-    for model in ("linear_elastic", "neo_hookean", "mohr_coulomb"):
+    from .scenario import MATERIAL_MODELS
+
+    for model in MATERIAL_MODELS:
         if key.startswith(model + "."):
             return key[len(model) + 1:]
     return key
@@ -56,14 +58,10 @@ def validate_material(material: dict[str, Any] | Any) -> Any:
     try:
         mat = _ADAPTER.validate_python(material)
     except ValidationError as exc:
-        errors = [(_strip_tag(key), msg) for key, msg in _convert_errors(exc)]
+        errors = [(_strip_tag(key), msg) for key, msg in convert_errors(exc)]
         raise ScenarioError(errors, "material") from None
-    # the scenario's cross checks of one material (ψ ≤ φ, the μ(I) keys), keys without the prefix
-    from .scenario import _cross_check_parts
-
-    prefix = "materials.material."
-    errors = [(key[len(prefix):] if key.startswith(prefix) else key, msg)
-              for key, msg in _cross_check_parts(None, None, {"material": mat}, ["material"], None, None, None)]
+    # the model's own cross checks (ψ ≤ φ, the μ(I) keys), keys without a prefix
+    errors = mat.cross_errors("")
     if errors:
         raise ScenarioError(errors, "material")
     return mat

@@ -1,4 +1,4 @@
-//! Plane strain and axisymmetric kinematics (Sulsky & Schreyer 1996; PHYSICS.md §2).
+//! Plane strain and axisymmetric kinematics (Sulsky & Schreyer 1996; docs/physics.md §2).
 //!
 //! The two formulations differ only in three places, all at the particle:
 //! the volume measure (V_p = A_p or A_p R_p), the hoop term of the internal force

@@ -89,7 +89,7 @@ def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
                 overrides: Sequence[str] = ()) -> dict[str, Any]:
     """Run one run of a case into ``out/cases/<case>/<run>`` and build its record. Never raises for
     a failing simulation or analysis: the record then has status "failed" and the message."""
-    from ..runner import run as run_scenario
+    from ..run.runner import run as run_scenario
 
     case = get(case_name)
     rel = run_dir_of(case, run)

@@ -349,7 +349,7 @@ def _row_from_summary(summary: dict[str, Any], run_dir: Path, case: str | None) 
 
 def run_task(data: dict[str, Any], out: str, threads: int, case: str | None) -> dict[str, Any]:
     """Run one scenario into ``out`` on a worker; never raises for a failed run."""
-    from ..runner import run
+    from ..run.runner import run
     from ..scenario import Scenario
 
     out_path = Path(out)

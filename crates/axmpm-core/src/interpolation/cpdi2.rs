@@ -12,7 +12,7 @@
 //!   w = [6V−a−b, 6V−a+b, 6V+a+b, 6V+a−b] / (24V),
 //!   w̃1 = (y2−y4, x4−x2)/(2V), w̃2 = (y3−y1, x1−x3)/(2V), w̃3 = −w̃1, w̃4 = −w̃2.
 //!
-//! These are PHYSICS.md §3's formulas; they are verified (not assumed) by the unit test
+//! These are docs/physics.md §3's formulas; they are verified (not assumed) by the unit test
 //! `weights_equal_gauss_quadrature_of_the_corner_interpolant`, which integrates the corner
 //! interpolant of every N_i and its gradient over random convex quadrilaterals with 4 × 4
 //! Gauss points. (The gradient weights follow from the divergence theorem: along each edge
@@ -63,7 +63,7 @@ fn corner_weights(c: &[[f64; 2]; 4]) -> ([f64; 4], [[f64; 2]; 4], f64) {
 /// step ([`Cpdi2::advect_corners`]), after every pass has used the stencil, so each expansion
 /// recomputes the corners' fractional positions in their cells from the corners, with the
 /// arithmetic of [`CellPoint::locate`] (bit for bit): two subtractions and a multiplication per
-/// coordinate cost less than keeping 64 bytes per particle (issue 6: ≤ 400 B per particle).
+/// coordinate cost less than keeping 64 bytes per particle (the memory budget is 400 B per particle).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Cpdi2Cache {
     /// Lower-left node (column, row) of each corner's cell, as [`CellPoint::cell`].

@@ -3,7 +3,7 @@
 
 #[cfg(doc)]
 use super::bilinear_nodes;
-use super::{fast_floor, ParticleDomain, ShapeFunction, NodeBox};
+use super::{fast_floor, NodeBox, ParticleDomain, ShapeFunction};
 #[cfg(test)]
 use super::Stencil;
 use crate::grid::GridGeometry;
@@ -104,6 +104,28 @@ mod tests {
         Linear::stencil(&g, &single_particle([1.0, 0.55], [0.025; 2]), 0, false, &mut st);
         assert_eq!(st.len, 4);
         assert!((st.weight_sum() - 1.0).abs() < 1e-15);
+    }
+
+    /// A particle exactly on the upper grid edge (x = 1.0, and at the corner) is located in the
+    /// last cell, not in the one beyond: the 4 nodes of that cell, weight 1 on the edge node and
+    /// the one-sided gradient of the last cell, +1/h towards the edge.
+    #[test]
+    fn a_particle_on_the_upper_edge_uses_the_last_cell() {
+        let g = grid(); // 10 × 10 cells of 0.1
+        let mut st = Stencil::default();
+        Linear::stencil(&g, &single_particle([1.0, 0.55], [0.025; 2]), 0, false, &mut st);
+        let nodes: Vec<usize> = (0..st.len).map(|k| st.node[k] as usize).collect();
+        assert_eq!(nodes, [g.node_index(9, 5), g.node_index(10, 5), g.node_index(9, 6), g.node_index(10, 6)]);
+        assert_eq!(st.node_box, NodeBox { columns: [9, 10], rows: [5, 6] });
+        // Node (10, 5): S = 1 · 0.5, ∂S/∂x = +10 · 0.5, ∂S/∂y = 1 · (−10).
+        assert!((st.weight[1] - 0.5).abs() < 1e-12 && st.weight[0].abs() < 1e-12);
+        assert!((st.gradient[1][0] - 5.0).abs() < 1e-12 && (st.gradient[1][1] + 10.0).abs() < 1e-12);
+        assert!((st.gradient[0][0] + 5.0).abs() < 1e-12);
+        Linear::stencil(&g, &single_particle([1.0, 1.0], [0.025; 2]), 0, false, &mut st);
+        let nodes: Vec<usize> = (0..st.len).map(|k| st.node[k] as usize).collect();
+        assert_eq!(nodes, [g.node_index(9, 9), g.node_index(10, 9), g.node_index(9, 10), g.node_index(10, 10)]);
+        assert_eq!(st.weight[3], 1.0);
+        assert_eq!(st.gradient[3], [10.0, 10.0]);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! (per direction) and S_ip is the average of the bilinear hat of node i over that domain.
 //!
 //! - 1D weight: [`gimp_weight`], the exact average (1/(2 l)) ∫ N_i over [x_p − l, x_p + l]. For
-//!   l ≤ h/2 it is the five-piece formula of PHYSICS.md §3; it stays valid up to l = h.
+//!   l ≤ h/2 it is the five-piece formula of docs/physics.md §3; it stays valid up to l = h.
 //! - 2D: tensor product S = S_x S_y, ∇S = (S_x' S_y, S_x S_y') in physical units.
 //! - Stencil: the nodes whose support (|x − x_i| < h) overlaps the domain, i.e. the integers
 //!   strictly inside (x_p − l − h, x_p + l + h)/h: at most 3 per direction for l ≤ h/2 and 4
@@ -204,7 +204,7 @@ mod tests {
     use crate::interpolation::testing::*;
     use crate::interpolation::{gimp_weight, Linear};
 
-    /// The five-piece 1D formula of PHYSICS.md §3 (physical units) and its derivative.
+    /// The five-piece 1D formula of docs/physics.md §3 (physical units) and its derivative.
     fn piecewise(xi: f64, l: f64, h: f64) -> (f64, f64) {
         if xi <= -h - l || xi > h + l {
             (0.0, 0.0)
@@ -312,6 +312,26 @@ mod tests {
                 assert!(dw < 1e-10 && dg < 1e-8, "at {x:?}: Δw = {dw}, Δ∇ = {dg}");
             }
         }
+    }
+
+    /// A point particle (zero half-width, or R_p = 0 on the axis) takes the zero-width branch:
+    /// exactly the linear hat, gradient signs included (−1/h on the lower node, +1/h on the
+    /// upper one in each direction).
+    #[test]
+    fn zero_width_is_the_linear_hat_with_its_gradient() {
+        let g = grid();
+        let mut lin = Stencil::default();
+        for x in [[0.13, 0.27], [0.4567, 0.8123], [0.05, 0.95]] {
+            let st = ugimp(x, [0.0, 0.0], false);
+            Linear::stencil(&g, &single_particle(x, [0.0; 2]), 0, false, &mut lin);
+            assert_eq!(stencil_difference(&st, &lin), (0.0, 0.0), "at {x:?}");
+        }
+        // By hand at (0.13, 0.27): node (1, 2) has ∇S = (−10 · 0.3, 0.7 · (−10)).
+        let st = ugimp([0.13, 0.27], [0.0, 0.0], false);
+        let k = (0..st.len).find(|&k| st.node[k] as usize == g.node_index(1, 2)).unwrap();
+        assert!((st.gradient[k][0] + 3.0).abs() < 1e-12 && (st.gradient[k][1] + 7.0).abs() < 1e-12);
+        let k = (0..st.len).find(|&k| st.node[k] as usize == g.node_index(2, 3)).unwrap();
+        assert!((st.gradient[k][0] - 7.0).abs() < 1e-12 && (st.gradient[k][1] - 3.0).abs() < 1e-12);
     }
 
     #[test]

@@ -132,9 +132,9 @@
 //!    * Apex: Δo = max(0, tr Δε^p), whatever ψ. Material returned to the apex (stress 0 for
 //!      c = 0) has no contact pressure left to dilate against, so its volume increase is loss
 //!      of contact, not dilatancy. (Subtracting a dilatancy share sin ψ (Δε^p_1 − Δε^p_3), the
-//!      ratio of the plane flow b = (m, 0, −1), was tried and rejected: a uniaxial stretch of
-//!      stress-free sand then leaves part of its volume permanently open, so a stretch–compress
-//!      cycle ends compressed for ψ > 0.)
+//!      ratio of the plane flow b = (m, 0, −1), would leave part of the volume of uniaxially
+//!      stretched stress-free sand permanently open, so that a stretch–compress cycle would
+//!      end compressed for ψ > 0.)
 //!    * Tension plane / edge / corner (Rankine flow e_i, associated): Δo = tr Δε^p (a tension
 //!      crack is all opening).
 //!    * Tension–shear edge and corners (Rankine flows plus Mohr–Coulomb flows with total
@@ -1398,20 +1398,19 @@ mod tests {
         (h, yielded)
     }
 
-    /// With `recompaction` off (the engine default and `recompaction = false`) the update is the
-    /// one from before the option existed, bit for bit: the hash below was recorded with that
-    /// code (commit 8da7919) on the same histories.
+    /// With `recompaction` off (the engine default and `recompaction = false`) the update is
+    /// plain Mohr–Coulomb, bit for bit: the hash pins it on these histories.
     #[test]
-    fn recompaction_off_reproduces_the_previous_update_bit_for_bit() {
-        const BEFORE_THE_OPTION: u64 = 0x8bc9c68b820ee40a;
+    fn recompaction_off_is_plain_mohr_coulomb_bit_for_bit() {
+        const PLAIN_MOHR_COULOMB: u64 = 0x8bc9c68b820ee40a;
         let (h, yielded) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d));
-        assert_eq!(h, BEFORE_THE_OPTION, "{h:#x}");
+        assert_eq!(h, PLAIN_MOHR_COULOMB, "{h:#x}");
         assert!(yielded > 100, "only {yielded} of 160 histories yielded");
         let (h, _) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d).with_recompaction(false));
-        assert_eq!(h, BEFORE_THE_OPTION);
+        assert_eq!(h, PLAIN_MOHR_COULOMB);
         // And it does change once separated material is re-compacted.
         let (h_on, _) = trajectory_hash(&mc_rc);
-        assert_ne!(h_on, BEFORE_THE_OPTION);
+        assert_ne!(h_on, PLAIN_MOHR_COULOMB);
     }
 
     /// Stretched into tension (stress-free expansion at the apex), then compressed back by the
@@ -1544,6 +1543,45 @@ mod tests {
             }
         }
         assert!(opened > 200 && closed > 200, "opened {opened}, closed {closed}");
+    }
+
+    /// Returns onto the tension–shear edge and its corners book only the Rankine (tension
+    /// crack) part of their plastic volume change as opening: for a trial σ_C + D Σ λ_i b_i
+    /// the opening is the sum of the cut-off multipliers λ_i, the Mohr–Coulomb flows' dilatancy
+    /// (m − 1) Λ staying permanent. ψ > 0, so that the dilatancy share is not zero.
+    #[test]
+    fn tension_shear_returns_open_by_their_rankine_part_only() {
+        use ReturnRegion::*;
+        let (phi, psi, c, st) = (30.0, 12.0, 20e3, 10e3);
+        let m = mc_rc(phi, psi, c, st);
+        let f = flows(psi);
+        let s3 = kk(phi) * st - 2.0 * c * kk(phi).sqrt();
+        let l = 4e-4;
+        // (target on the surface, flows with multipliers, region, Σ of the cut-off multipliers)
+        let cases = [
+            ([st, -10e3, s3], vec![(l, f[0]), (0.7 * l, f[3])], TensionShearEdge, 0.7 * l),
+            (
+                [st, st, s3],
+                vec![(l, f[0]), (0.5 * l, f[1]), (0.8 * l, f[3]), (0.3 * l, f[4])],
+                TensionShearCornerCompression,
+                1.1 * l,
+            ),
+            ([st, s3, s3], vec![(l, f[0]), (0.5 * l, f[2]), (0.2 * l, f[3])], TensionShearCornerExtension, 0.2 * l),
+        ];
+        for (target, terms, region, rankine) in cases {
+            let trial = add_flow(target, &terms);
+            assert_eq!(m.return_principal(&trial).1, region);
+            // σ1, σ3 in plane, σ2 out of plane.
+            let mut stress = [0.0; 4];
+            let mut state = [0.0; 3];
+            m.return_trial(&mut stress, &mut state, [trial[0], trial[2], trial[1], 0.0], false);
+            let dilatancy: f64 = terms.iter().filter(|(_, g)| g[0] == kk(psi) || g[1] == kk(psi)).map(|(x, _)| x).sum();
+            assert!((state[1] - (rankine + (kk(psi) - 1.0) * dilatancy)).abs() <= 1e-9 * l, "{region:?}: {state:?}");
+            assert!((state[2] - rankine).abs() <= 1e-9 * l, "{region:?}: opening {} vs {rankine}", state[2]);
+            for (i, want) in [(0, target[0]), (1, target[2]), (2, target[1])] {
+                assert!((stress[i] - want).abs() <= 1e-6 * want.abs().max(1.0), "{region:?}: {stress:?} vs {target:?}");
+            }
+        }
     }
 
     /// Shear dilatancy (ψ > 0) on the plane and edges is not an opening; an isotropic stretch to the

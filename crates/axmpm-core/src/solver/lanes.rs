@@ -37,8 +37,8 @@ impl Lane {
     }
 
     /// Zeroes the buffers where the previous scatter wrote (`nodes_x` nodes per grid row).
-    /// Not inlined (one call per lane and pass): inlined, it changed the compiled scatter
-    /// loops around it from one build to the next.
+    /// Not inlined (one call per lane and pass): inlined, it makes the compiled scatter loops
+    /// around it depend on unrelated code changes (unstable instruction counts).
     #[inline(never)]
     pub(super) fn clear(&mut self, nodes_x: usize) {
         let b = self.touched;

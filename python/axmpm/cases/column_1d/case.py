@@ -31,7 +31,15 @@ from typing import Any
 from .. import RunSpec, register
 from ...study.report import pct
 
-SCHEMES: tuple[str, ...] = ("linear", "ugimp", "cpgimp", "cpdi2")
+
+
+def schemes() -> tuple[str, ...]:
+    """Every interpolation scheme of the engine (axmpm.catalogue): all of them are verified."""
+    from ...catalogue import interpolation_schemes
+
+    return interpolation_schemes()
+
+
 MODES: tuple[str, ...] = ("compression", "tension")
 #: layout key -> (formulation, inner face distance from the axis in column widths)
 OFFSET_WIDTHS = 20
@@ -100,11 +108,12 @@ def run_spec(scheme: str, mode: str, layout: str, cells_along: int) -> RunSpec:
     })
 
 
-def run_specs(resolutions: Sequence[int], schemes: Sequence[str] = SCHEMES, modes: Sequence[str] = MODES,
+def run_specs(resolutions: Sequence[int], schemes_: Sequence[str] | None = None, modes: Sequence[str] = MODES,
               layouts: Iterable[str] = tuple(LAYOUTS)) -> list[RunSpec]:
-    """All runs in a fixed order (scheme, mode, layout, resolution)."""
+    """All runs in a fixed order (scheme, mode, layout, resolution); every scheme by default."""
     layouts = list(layouts)
-    return [run_spec(s, m, lay, n) for s in schemes for m in modes for lay in layouts for n in sorted(resolutions)]
+    return [run_spec(s, m, lay, n) for s in (schemes_ or schemes()) for m in modes for lay in layouts
+            for n in sorted(resolutions)]
 
 
 def column_run_scenario(run: RunSpec) -> Any:
@@ -162,7 +171,7 @@ def column_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
 
     import numpy as np
 
-    from ...output import load_run
+    from ...run.output import load_run
     from .scenario import column_errors, column_geometry
 
     out = dict(EMPTY_METRICS)
@@ -199,7 +208,7 @@ def case_passes(record: dict[str, Any]) -> bool:
 def add_twin_differences(cases: list[dict[str, Any]], out: str | Path) -> None:
     """Set ``plane_strain_difference`` of every completed axisymmetric run whose plane-strain
     twin completed: relative L2 difference of the vertical stress, particle by particle."""
-    from ...output import load_run
+    from ...run.output import load_run
     from .scenario import stress_difference
 
     by_key = {_twin_key(c): c for c in cases if c["layout"] == "plane_strain"}
@@ -336,15 +345,15 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
 
     from . import exact
     from .scenario import column_geometry
-    from ...output import load_run
+    from ...run.output import load_run
     from ...study.plotting import scheme_style
 
-    schemes = [s for s in SCHEMES if any(c["scheme"] == s and c["layout"] == layout for c in cases)]
-    if not schemes:
+    present = [s for s in schemes() if any(c["scheme"] == s and c["layout"] == layout for c in cases)]
+    if not present:
         return None
-    fig, axes = plt.subplots(len(schemes), 2, figsize=(8.0, 2.6 * len(schemes) + 0.6), squeeze=False,
+    fig, axes = plt.subplots(len(present), 2, figsize=(8.0, 2.6 * len(present) + 0.6), squeeze=False,
                              sharey="col")
-    for i, scheme in enumerate(schemes):
+    for i, scheme in enumerate(present):
         for j, mode in enumerate(MODES):
             ax = axes[i][j]
             X = np.linspace(0.0, HEIGHT, 201)
@@ -368,7 +377,7 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
             ax.set_title(f"{style['label']}, {mode}", fontsize=9)
             ax.legend(fontsize=7, loc="best")
             ax.grid(alpha=0.3)
-            if i == len(schemes) - 1:
+            if i == len(present) - 1:
                 ax.set_xlabel("vertical stress σ_zz (kPa)")
             if j == 0:
                 ax.set_ylabel("height above the initial base (m)")
@@ -387,7 +396,7 @@ def _convergence_figure(plt: Any, cases: list[dict[str, Any]]) -> Any:
     for j, mode in enumerate(MODES):
         for i, (key, label) in enumerate((("stress_error", "stress"), ("displacement_error", "displacement"))):
             ax = axes[i][j]
-            for scheme in SCHEMES:
+            for scheme in schemes():
                 style = scheme_style(scheme)
                 for layout, ls in line_styles.items():
                     group = sorted((c for c in cases if c["scheme"] == scheme and c["mode"] == mode
@@ -442,7 +451,7 @@ def error_table(cases: list[dict[str, Any]]) -> str:
     index = {(c["scheme"], c["mode"], c["layout"], int(c["cells_along"])): c for c in cases}
     lines = ["| scheme | mode | formulation | " + " | ".join(f"n = {n}" for n in resolutions) + " |",
              "|---|---|---|" + "---|" * len(resolutions)]
-    for scheme in SCHEMES:
+    for scheme in schemes():
         for mode in MODES:
             for layout in LAYOUTS:
                 if not any((scheme, mode, layout, n) in index for n in resolutions):
@@ -457,7 +466,7 @@ def twin_table(cases: list[dict[str, Any]]) -> str:
     index = {(c["scheme"], c["mode"], c["layout"], int(c["cells_along"])): c for c in cases}
     lines = ["| scheme | mode | twin | " + " | ".join(f"n = {n}" for n in resolutions) + " |",
              "|---|---|---|" + "---|" * len(resolutions)]
-    for scheme in SCHEMES:
+    for scheme in schemes():
         for mode in MODES:
             for layout in ("axisymmetric_axis", "axisymmetric_offset"):
                 row = []

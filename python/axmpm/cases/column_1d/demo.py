@@ -20,8 +20,8 @@ class DemoResult:
 def run_demo(out: str | Path = "runs/demo", overwrite: bool = False, threads: int = 0,
              progress: bool | None = None) -> DemoResult:
     """Run the demo column and compare its last frame with the exact solution."""
-    from ...output import load_run
-    from ...runner import run
+    from ...run.output import load_run
+    from ...run.runner import run
 
     scenario = column_scenario(
         "axisymmetric", "linear", "compression", cells_along=32, cells_across=2, load_ratio=0.01

@@ -4,7 +4,7 @@
 (uniaxial strain), in plane strain or axisymmetric (optionally with its inner face at
 r = offset, away from the axis), loaded by gravity ramped in over a whole number of
 fundamental periods and brought to rest by Cundall local damping. The fundamental period
-of a fixed–free column is T = 4H/c with c = √(E/ρ0) (ν = 0: the P-wave modulus is E);
+of a fixed–free column is T = 4H/c with c = √(M/ρ0), M the P-wave modulus (E for ν = 0);
 ramping over n·T leaves (almost) no residual vibration of the odd modes (periods T/(2k+1))
 in the linear regime. The defaults (ramp 2 T, then 4 T of settling with local damping 0.3)
 reach the static state within a fraction of a percent for ρ0 g H/E from 0.01 to 0.5; with
@@ -46,6 +46,7 @@ def column_scenario(
     youngs_modulus: float | None = None,
     particles_per_cell: int = 2,
     material_model: Literal["neo_hookean", "linear_elastic"] = "neo_hookean",
+    poisson_ratio: float = 0.0,
     ramp_periods: float = 2.0,
     settle_periods: float = 4.0,
     damping: float = 0.3,
@@ -56,7 +57,9 @@ def column_scenario(
 ) -> Scenario:
     """A 1D column scenario.
 
-    ``youngs_modulus`` defaults to ρ0 g H / ``load_ratio`` (s0 = load_ratio). ``offset`` is
+    ``youngs_modulus`` defaults to ρ0 g H / ``load_ratio`` (s0 = load_ratio). ``poisson_ratio``
+    > 0 (with rollers on the lateral faces: uniaxial strain, lateral stress ν/(1 − ν) times the
+    vertical one) makes the axisymmetric hoop stress, and so the hoop force, non-zero. ``offset`` is
     the x (r) position of the column's inner face; it must be a whole number of cells.
     Compression: base fixed on the bottom face, 2 cells of room above. Tension: top fixed
     on the top face, room below for twice the exact elongation plus 2 cells.
@@ -76,7 +79,9 @@ def column_scenario(
         raise ValueError(f"offset must be a non-negative whole number of cells of {h:g} m (got {offset:g})")
     x0 = round(n_offset) * h
 
-    wave_speed = math.sqrt(E / density)
+    nu = float(poisson_ratio)
+    modulus = E if nu == 0.0 else E * (1.0 - nu) / ((1.0 + nu) * (1.0 - 2.0 * nu))  # P-wave modulus
+    wave_speed = math.sqrt(modulus / density)
     period = 4.0 * H / wave_speed
     ramp = ramp_periods * period
     end_time = ramp + settle_periods * period
@@ -120,7 +125,7 @@ def column_scenario(
         },
         "grid": {"origin": [origin_x, 0.0], "extent": [extent_x, extent_y], "cell_size": h},
         "materials": {
-            "column": {"model": material_model, "density": density, "youngs_modulus": E, "poisson_ratio": 0.0}
+            "column": {"model": material_model, "density": density, "youngs_modulus": E, "poisson_ratio": nu}
         },
         "bodies": [
             {

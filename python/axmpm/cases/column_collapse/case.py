@@ -121,7 +121,7 @@ def run_scenario(run: RunSpec) -> Any:
 def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dict[str, Any]:
     """The figures of a finished collapse run: its deposit (:func:`deposit_metrics`), against
     every law, and the run's own status."""
-    from ...output import load_run
+    from ...run.output import load_run
 
     m = deposit_metrics(run_dir)
     run = load_run(run_dir)

@@ -22,7 +22,7 @@ class CollapseDemoResult:
 def run_collapse_demo(out: str | Path = "runs/demo", overwrite: bool = False, threads: int = 0,
                       progress: bool | None = None, **builder: Any) -> CollapseDemoResult:
     """Run the a = 0.56 collapse; write ``profiles.png`` and ``demo.json``/``demo.md`` in ``out``."""
-    from ...runner import run
+    from ...run.runner import run
     from .case import CASES, case_result, plot_profiles, results_table
     from .scenario import collapse_scenario
 

@@ -331,7 +331,7 @@ def deposit_metrics(run_dir: str | Path) -> dict[str, Any]:
     ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
     ``cells_per_radius``, ``frame``, ``status``. Geometry comes from the scenario's first body.
     """
-    from ...output import load_run
+    from ...run.output import load_run
 
     run = load_run(run_dir)
     if not run.frames:
@@ -356,7 +356,7 @@ def profile_difference(run_dir: str | Path, reference_dir: str | Path,
     converges when it shrinks, whatever rule then reads a runout off the profile."""
     from dataclasses import replace
 
-    from ...output import load_run
+    from ...run.output import load_run
 
     runs = [load_run(run_dir), load_run(reference_dir)]
     geoms = [geometry_from_scenario(r.scenario) for r in runs]
@@ -380,7 +380,7 @@ def profiles(run_dir: str | Path, interval: float | None = None,
              method: str = "volume") -> list[dict[str, Any]]:
     """Free-surface profiles of every frame (or frames ~``interval`` apart):
     ``[{"time", "r", "h"}]`` in metres, relative to the axis and the base."""
-    from ...output import load_run
+    from ...run.output import load_run
 
     run = load_run(run_dir)
     geom = geometry_from_scenario(run.scenario)

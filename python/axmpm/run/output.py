@@ -3,8 +3,14 @@
 Layout of a run folder::
 
     scenario.toml            resolved scenario (every default filled in)
-    summary.json             status, steps, timings, energies (written at start, updated at end)
-    history.csv              one row per output time: time, steps, dt, energies
+    summary.json             status, steps, timings, energies, reactions (the last row's
+                             forces, NAME → [fx, fy]) (written at start, updated at end)
+    run.lock                 present while a process writes the folder (axmpm.run.lock)
+    history.csv              one row per output time: time, steps, dt, energies, wall_seconds,
+                             and NAME.force_x, NAME.force_y per constraint that reports a
+                             reaction (faces that are not free, walls): the mean force the
+                             material exerted on it since the previous row (N; axisymmetric:
+                             whole body, plane strain: per metre)
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these
@@ -14,11 +20,13 @@ Layout of a run folder::
 Every file is written under a temporary name and moved into place with ``os.replace``, so
 a reader (or a run killed at any moment) never sees a half-written file; a frame is listed
 in ``particles.pvd`` only after both its .npz and .vtu are in place. ``history.csv`` is
-rewritten whole (atomically) at every output time.
+rewritten whole (atomically) at every output time. An error while writing names the file
+(:func:`writing`); the runner then ends the run as failed and keeps what was complete.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
@@ -32,7 +40,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .scenario import Scenario
+from ..scenario import Scenario
 
 __all__ = [
     "FrameData",
@@ -44,6 +52,9 @@ __all__ = [
     "write_frame",
     "write_pvd",
     "write_json",
+    "write_json_robustly",
+    "writing",
+    "output_message",
     "HistoryWriter",
     "Checkpoint",
     "write_checkpoint",
@@ -134,18 +145,64 @@ def _tmp(path: Path) -> Path:
     return path.with_name(f".{path.name}.tmp{os.getpid()}")
 
 
+@contextlib.contextmanager
+def writing(path: str | Path) -> Any:
+    """Any ``OSError`` raised while ``path`` is written (its temporary file included) names
+    ``path``: an error from ``write()`` (e.g. ENOSPC) carries no file name of its own."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename is not None and Path(exc.filename) == Path(path):
+            raise
+        raise OSError(exc.errno, exc.strerror or str(exc), str(path)) from exc
+
+
+def output_message(exc: OSError) -> str:
+    """``cannot write FILE: reason`` (the reason alone when the error names no file)."""
+    reason = exc.strerror or str(exc)
+    return f"cannot write {exc.filename}: {reason}" if exc.filename else f"cannot write the output: {reason}"
+
+
 def write_json(path: Path, data: dict[str, Any]) -> None:
     """Write JSON atomically."""
-    tmp = _tmp(path)
-    tmp.write_text(json.dumps(data, indent=2) + "\n")
-    os.replace(tmp, path)
+    write_text(path, json.dumps(data, indent=2) + "\n")
 
 
 def write_text(path: Path, text: str) -> None:
     """Write text atomically."""
     tmp = _tmp(path)
-    tmp.write_text(text)
-    os.replace(tmp, path)
+    with writing(path):
+        try:
+            tmp.write_text(text)
+            os.replace(tmp, path)
+        except OSError:
+            with contextlib.suppress(OSError):
+                tmp.unlink()
+            raise
+
+
+def write_json_robustly(path: Path, data: dict[str, Any]) -> str:
+    """Write JSON wherever it still can be written: atomically; else after removing the run's
+    temporary files (which may be what filled the disk); else in place over the old file (its
+    blocks are reused). Returns "" on success, else the reason it could not be written."""
+    text = json.dumps(data, indent=2) + "\n"
+    try:
+        write_text(path, text)
+        return ""
+    except OSError:
+        remove_temporary_files(path.parent)
+    try:
+        write_text(path, text)
+        return ""
+    except OSError:
+        pass
+    try:
+        with open(path, "r+" if path.exists() else "w") as fh:
+            fh.write(text)
+            fh.truncate()
+        return ""
+    except OSError as exc:
+        return output_message(OSError(exc.errno, exc.strerror or str(exc), str(path)))
 
 
 def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -> Path:
@@ -159,15 +216,16 @@ def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -
     npz = frames / f"{stem}.npz"
     tmp_npz = frames / f".{stem}.tmp{os.getpid()}.npz"
     arrays = {name: getattr(frame, name) for name in _ARRAYS}
-    np.savez(
-        tmp_npz,
-        time=np.float64(frame.time),
-        steps=np.int64(frame.steps),
-        state_names=np.array(frame.state_names, dtype=str),
-        formulation=np.array(formulation),
-        **arrays,
-    )
-    os.replace(tmp_npz, npz)
+    with writing(npz):
+        np.savez(
+            tmp_npz,
+            time=np.float64(frame.time),
+            steps=np.int64(frame.steps),
+            state_names=np.array(frame.state_names, dtype=str),
+            formulation=np.array(formulation),
+            **arrays,
+        )
+        os.replace(tmp_npz, npz)
 
     n = frame.x.shape[0]
     zeros = np.zeros(n)
@@ -191,15 +249,16 @@ def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -
         data[f"state_{name}"] = np.ascontiguousarray(frame.state[:, j])
 
     tmp_stem = frames / f".{stem}.tmp{os.getpid()}"
-    pointsToVTK(
-        str(tmp_stem),
-        np.ascontiguousarray(frame.x[:, 0]),
-        np.ascontiguousarray(frame.x[:, 1]),
-        zeros,
-        data=data,  # no fieldData: the time is in particles.pvd, and meshio rejects FieldData
-    )
     vtu = frames / f"{stem}.vtu"
-    os.replace(f"{tmp_stem}.vtu", vtu)
+    with writing(vtu):
+        pointsToVTK(
+            str(tmp_stem),
+            np.ascontiguousarray(frame.x[:, 0]),
+            np.ascontiguousarray(frame.x[:, 1]),
+            zeros,
+            data=data,  # no fieldData: the time is in particles.pvd, and meshio rejects FieldData
+        )
+        os.replace(f"{tmp_stem}.vtu", vtu)
     return vtu
 
 
@@ -208,11 +267,12 @@ def write_pvd(run_dir: Path, entries: Sequence[tuple[float, Path]]) -> None:
     from pyevtk.vtk import VtkGroup
 
     tmp_stem = run_dir / f".particles.tmp{os.getpid()}"
-    group = VtkGroup(str(tmp_stem))
-    for time, vtu in entries:
-        group.addFile(filepath=str(vtu), sim_time=repr(float(time)))
-    group.save()
-    os.replace(f"{tmp_stem}.pvd", run_dir / PVD)
+    with writing(run_dir / PVD):
+        group = VtkGroup(str(tmp_stem))
+        for time, vtu in entries:
+            group.addFile(filepath=str(vtu), sim_time=repr(float(time)))
+        group.save()
+        os.replace(f"{tmp_stem}.pvd", run_dir / PVD)
 
 
 class HistoryWriter:
@@ -330,8 +390,9 @@ def write_checkpoint(run_dir: Path, ckpt: Checkpoint) -> Path:
         "engine_seconds": ckpt.engine_seconds,
         "energies": ckpt.energies,
     }
-    np.savez(tmp, engine=np.frombuffer(bytes(ckpt.engine), dtype=np.uint8), meta=np.array(json.dumps(meta)))
-    os.replace(tmp, path)
+    with writing(path):
+        np.savez(tmp, engine=np.frombuffer(bytes(ckpt.engine), dtype=np.uint8), meta=np.array(json.dumps(meta)))
+        os.replace(tmp, path)
     return path
 
 
@@ -424,7 +485,8 @@ class Frame:
 
 
 class Run:
-    """A run folder read back: ``frames``, ``summary``, ``scenario``, ``history``."""
+    """A run folder read back: ``frames``, ``summary``, ``scenario``, ``history`` (columns of
+    history.csv), ``reactions`` (constraint name → forces at every history row)."""
 
     def __init__(self, path: str | Path):
         self.path = Path(path)
@@ -449,6 +511,15 @@ class Run:
         header, body = rows[0], rows[1:]
         values = np.array([[float(v) for v in r] for r in body], dtype=float).reshape(len(body), len(header))
         return {name: values[:, j] for j, name in enumerate(header)}
+
+    @property
+    def reactions(self) -> dict[str, NDArray[np.float64]]:
+        """Per constraint that reports a reaction, its force at every history row: name → (T, 2)
+        array [force_x, force_y] (N, the mean since the previous row; axisymmetric: whole body)."""
+        history = self.history
+        names = [c[: -len(".force_x")] for c in history if c.endswith(".force_x")]
+        return {n: np.stack([history[f"{n}.force_x"], history[f"{n}.force_y"]], axis=1)
+                for n in names if f"{n}.force_y" in history}
 
     @property
     def times(self) -> NDArray[np.float64]:

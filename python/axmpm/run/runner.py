@@ -20,6 +20,7 @@ See docs/robustness.md.
 from __future__ import annotations
 
 import contextlib
+import json
 import math
 import os
 import shutil
@@ -31,7 +32,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from .errors import RunError
+from ..errors import RunError
+from .lock import LOCK, RunLock
 from .output import (
     FRAMES,
     HISTORY,
@@ -49,10 +51,12 @@ from .output import (
     write_checkpoint,
     write_frame,
     write_json,
+    output_message,
+    write_json_robustly,
     write_pvd,
     write_text,
 )
-from .scenario import Scenario
+from ..scenario import Scenario
 
 __all__ = ["run", "resume", "check_output_folder", "prepare_output_folder", "checkpoint_every",
            "DEFAULT_CHUNK_STEPS"]
@@ -66,7 +70,7 @@ def check_output_folder(out: Path, overwrite: bool) -> None:
     not a previous axmpm run (a folder with axmpm's ``summary.json``) unless ``overwrite``."""
     if out.exists() and not out.is_dir():
         raise RunError(f"--out {out} exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()):
+    if out.is_dir() and any(p.name != LOCK for p in out.iterdir()):
         if not (is_run_folder(out) or overwrite):
             raise RunError(
                 f"--out {out} is a non-empty folder that is not an axmpm run; "
@@ -79,10 +83,12 @@ def check_output_folder(out: Path, overwrite: bool) -> None:
 
 
 def prepare_output_folder(out: Path, overwrite: bool) -> None:
-    """Make ``out`` an empty folder, after :func:`check_output_folder` allowed it."""
+    """Make ``out`` an empty folder (but for its lock), after :func:`check_output_folder` allowed it."""
     check_output_folder(out, overwrite)
     if out.is_dir():
         for child in out.iterdir():
+            if child.name == LOCK:
+                continue
             if child.is_dir() and not child.is_symlink():
                 shutil.rmtree(child)
             else:
@@ -92,7 +98,7 @@ def prepare_output_folder(out: Path, overwrite: bool) -> None:
 
 def _engine_class() -> tuple[Any, type[BaseException]]:
     try:
-        from . import _core  # type: ignore[attr-defined]
+        from .. import _core  # type: ignore[attr-defined]
     except ImportError as exc:  # pragma: no cover - depends on the build
         raise RunError(f"the compiled engine axmpm._core is not available ({exc}); run `make install`") from None
     failure = getattr(_core, "SimulationFailure", RuntimeError)
@@ -228,15 +234,24 @@ class _Driver:
         """Frame, pvd and history row at the current (output) time."""
         sim, out = self.sim, self.out
         frame = FrameData.from_simulation(sim)
-        vtu = write_frame(out, len(self.pvd_entries), frame, self.sim_cfg.formulation)
-        self.pvd_entries.append((frame.time, vtu))
-        write_pvd(out, self.pvd_entries)
+        index = len(self.pvd_entries)
+        try:
+            vtu = write_frame(out, index, frame, self.sim_cfg.formulation)
+            write_pvd(out, [*self.pvd_entries, (frame.time, vtu)])
+        except OSError:
+            with contextlib.suppress(OSError):
+                remove_frames_from(out, index)  # an incomplete frame is not kept
+            raise
+        self.pvd_entries.append((frame.time, vtu))  # complete: its files and the pvd entry
         energies = {k: float(v) for k, v in sim.energies().items()}
+        reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
         self.history.append(
             {"time": frame.time, "steps": frame.steps, "dt": float(sim.dt),
-             **dict(sorted(energies.items())), "wall_seconds": self.wall()}
+             **dict(sorted(energies.items())), "wall_seconds": self.wall(),
+             **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")}}
         )
         self.summary["energies"] = energies
+        self.summary["reactions"] = reactions
 
     def snapshot(self, k: int) -> None:
         """Keep the engine state of output ``k`` in memory: the last good restart point."""
@@ -261,7 +276,9 @@ class _Driver:
         write_checkpoint(self.out, self.last_good)
         self.summary["checkpoint"] = self.last_good.meta()
 
-    def finish(self, status: str, message: str = "") -> dict[str, Any]:
+    def finish(self, status: str, message: str = "", failure: str | None = None) -> dict[str, Any]:
+        """Record the end of the run in summary.json; ``failure`` says what failed ("engine": the
+        simulation, "output": writing the run folder, "error": anything else)."""
         sim, summary = self.sim, self.summary
         steps = int(sim.steps)
         engine_seconds = self.engine_seconds
@@ -276,6 +293,8 @@ class _Driver:
             particle_steps_per_second=(steps * int(sim.num_particles) / engine_seconds) if engine_seconds > 0 else 0.0,
             frames=len(self.pvd_entries),
         )
+        if failure is not None:
+            summary["failure"] = failure
         if status == "failed" and self.pvd_entries:
             summary["last_good_time"] = float(self.pvd_entries[-1][0])
             summary["last_good_frame"] = len(self.pvd_entries) - 1
@@ -284,7 +303,12 @@ class _Driver:
                 summary["energies"] = {k: float(v) for k, v in sim.energies().items()}
             except Exception:  # pragma: no cover - keep the last recorded energies
                 pass
-        write_json(self.out / SUMMARY, summary)
+        if status == "completed":
+            write_json(self.out / SUMMARY, summary)
+        else:  # the output may be what failed: write the summary wherever it still can be
+            problem = write_json_robustly(self.out / SUMMARY, summary)
+            if problem:
+                summary["summary_not_written"] = problem
         return summary
 
     # -- the loop -----------------------------------------------------------------------
@@ -341,19 +365,38 @@ class _Driver:
             print(f"interrupted at t = {float(sim.time):.6g} s{where}; continue with: axmpm resume {self.out}",
                   file=sys.stderr)
             raise
-        except Exception as exc:  # a bug or I/O error: record it, then let it propagate
+        except OSError as exc:  # writing the output failed: a failed run, what was complete is kept
+            bar.close()
+            return self.fail_output(exc)
+        except Exception as exc:  # a bug: record it, then let it propagate
             bar.close()
             with contextlib.suppress(Exception):
                 self.save_checkpoint()
-            self.finish("failed", f"{type(exc).__name__}: {exc}")
+            self.finish("failed", f"{type(exc).__name__}: {exc}", failure="error")
             raise
         bar.close()
-        self.save_checkpoint()
-        return self.finish("completed")
+        try:
+            self.save_checkpoint()
+            return self.finish("completed")
+        except OSError as exc:
+            return self.fail_output(exc)
 
     def fail(self, message: str) -> dict[str, Any]:
-        self.save_checkpoint()  # the last good output time; the engine's current state is bad
-        return self.finish("failed", message)
+        """The engine failed: keep the last good output time's checkpoint, record the reason."""
+        try:
+            self.save_checkpoint()  # the last good output time; the engine's current state is bad
+        except OSError as exc:
+            message += f"; {output_message(exc)}"
+        return self.finish("failed", message, failure="engine")
+
+    def fail_output(self, exc: OSError) -> dict[str, Any]:
+        """Writing the output failed (disk full, folder removed, ...): the run failed. The files
+        already complete stay (atomic writes), temporary files go, the checkpoint of the last
+        output time is written if it still can be, and the summary records the file and reason."""
+        remove_temporary_files(self.out)
+        with contextlib.suppress(OSError):
+            self.save_checkpoint()
+        return self.finish("failed", output_message(exc), failure="output")
 
 
 def run(
@@ -388,46 +431,49 @@ def run(
         sim = Simulation(scenario.engine_json(), int(threads))
     except (ValueError, TypeError) as exc:
         raise RunError(f"the engine rejected the scenario: {exc}") from None
-    prepare_output_folder(out, overwrite)
-
-    summary: dict[str, Any] = {
-        "program": PROGRAM,
-        "status": "running",
-        "formulation": sim_cfg.formulation,
-        "shape_function": sim_cfg.shape_function,
-        "particles": int(sim.num_particles),
-        "nodes": int(sim.num_nodes),
-        "grid_shape": list(sim.grid_shape),
-        "threads": int(getattr(sim, "threads", threads)),
-        "steps": 0,
-        "end_time": 0.0,
-        "target_end_time": sim_cfg.end_time,
-        "dt": float(sim.dt),
-        "wall_seconds": 0.0,
-        "engine_seconds": 0.0,
-        "particle_steps_per_second": 0.0,
-        "energies": {},
-        "frames": 0,
-        "message": "",
-        "stopped_at_rest": False,
-        "checkpoint": None,
-        "resumed": 0,
-    }
-    write_json(out / SUMMARY, summary)
-    write_text(out / SCENARIO, scenario.to_toml())
-    driver = _Driver(sim, SimulationFailure, scenario, out, summary, HistoryWriter(out / HISTORY), [],
-                     progress=progress, chunk_steps=chunk_steps, checkpoints=checkpoints)
-    try:
-        driver.record()
-        driver.snapshot(0)
-    except KeyboardInterrupt:
-        driver.save_checkpoint()
-        driver.finish("interrupted", "interrupted by the user (Ctrl-C)")
-        raise
-    except Exception as exc:
-        driver.finish("failed", f"{type(exc).__name__}: {exc}")
-        raise
-    return driver.drive(0)
+    with RunLock(out, "axmpm run"):  # one writer per folder; refuses naming the holder
+        prepare_output_folder(out, overwrite)
+        summary: dict[str, Any] = {
+            "program": PROGRAM,
+            "status": "running",
+            "formulation": sim_cfg.formulation,
+            "shape_function": sim_cfg.shape_function,
+            "particles": int(sim.num_particles),
+            "nodes": int(sim.num_nodes),
+            "grid_shape": list(sim.grid_shape),
+            "threads": int(getattr(sim, "threads", threads)),
+            "steps": 0,
+            "end_time": 0.0,
+            "target_end_time": sim_cfg.end_time,
+            "dt": float(sim.dt),
+            "wall_seconds": 0.0,
+            "engine_seconds": 0.0,
+            "particle_steps_per_second": 0.0,
+            "energies": {},
+            "reactions": {},
+            "frames": 0,
+            "message": "",
+            "stopped_at_rest": False,
+            "checkpoint": None,
+            "resumed": 0,
+        }
+        driver = _Driver(sim, SimulationFailure, scenario, out, summary, HistoryWriter(out / HISTORY), [],
+                         progress=progress, chunk_steps=chunk_steps, checkpoints=checkpoints)
+        try:
+            write_json(out / SUMMARY, summary)
+            write_text(out / SCENARIO, scenario.to_toml())
+            driver.record()
+            driver.snapshot(0)
+        except KeyboardInterrupt:
+            driver.save_checkpoint()
+            driver.finish("interrupted", "interrupted by the user (Ctrl-C)")
+            raise
+        except OSError as exc:
+            return driver.fail_output(exc)
+        except Exception as exc:
+            driver.finish("failed", f"{type(exc).__name__}: {exc}", failure="error")
+            raise
+        return driver.drive(0)
 
 
 def resume(
@@ -449,10 +495,22 @@ def resume(
         raise RunError(f"{out} is not a folder")
     if not is_run_folder(out):
         raise RunError(f"{out} is not an axmpm run folder (no readable {SUMMARY})")
-    import json
+    if _status(out) == "completed":
+        return json.loads((out / SUMMARY).read_text())
+    with RunLock(out, "axmpm resume"):  # one writer per folder; refuses naming the holder
+        return _resume_locked(out, threads, progress, chunk_steps)
 
+
+def _status(out: Path) -> str | None:
+    try:
+        return json.loads((out / SUMMARY).read_text()).get("status")
+    except (OSError, ValueError, AttributeError):
+        return None
+
+
+def _resume_locked(out: Path, threads: int, progress: bool | None, chunk_steps: int) -> dict[str, Any]:
     summary: dict[str, Any] = json.loads((out / SUMMARY).read_text())
-    if summary.get("status") == "completed":
+    if summary.get("status") == "completed":  # completed by the writer that held the lock
         return summary
     try:
         ckpt = read_checkpoint(out)
@@ -482,8 +540,8 @@ def resume(
     summary.update(status="running", message="", resumed=int(summary.get("resumed", 0)) + 1,
                    threads=int(getattr(sim, "threads", threads)), energies=dict(ckpt.energies),
                    stopped_at_rest=False, checkpoint=ckpt.meta())
-    summary.pop("last_good_time", None)
-    summary.pop("last_good_frame", None)
+    for key in ("last_good_time", "last_good_frame", "failure", "summary_not_written"):
+        summary.pop(key, None)
     write_json(out / SUMMARY, summary)
     driver = _Driver(sim, SimulationFailure, scenario, out, summary, history, pvd_entries,
                      progress=progress, chunk_steps=chunk_steps, checkpoints=True,

@@ -25,7 +25,7 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def main(args: argparse.Namespace) -> int:
-    from .cli import EXIT_OK, _report_run
+    from ..cli import EXIT_OK, _report_run
     from .output import SUMMARY, read_checkpoint
     from .runner import resume
 

@@ -1,0 +1,78 @@
+"""``model = "mohr_coulomb"``: elastic–perfectly plastic Mohr–Coulomb, non-associated, with
+optional tension cut-off, re-compaction and μ(I) friction (docs/physics.md §5)."""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field
+
+from ..fields import NonNegative, Positive, bounded, fmt
+from . import ElasticMaterial, register_material
+
+#: Mohr–Coulomb ``recompaction`` when a scenario does not set it (same as the engine's
+#: ``mohr_coulomb::RECOMPACTION_DEFAULT``).
+RECOMPACTION_DEFAULT = False
+
+
+@register_material("mohr_coulomb")
+class MohrCoulomb(ElasticMaterial):
+    """Elastic–perfectly plastic Mohr–Coulomb, non-associated (dilation angle ψ ≤ φ)."""
+
+    model: Literal["mohr_coulomb"]
+    friction_angle: bounded(0.0, 90.0, lo_open=True, hi_open=True) = Field(  # type: ignore[valid-type]
+        description="degrees"
+    )
+    dilation_angle: NonNegative = Field(0.0, description="degrees, <= friction_angle")
+    cohesion: NonNegative = Field(0.0, description="Pa")
+    tension_cutoff: NonNegative = Field(0.0, description="Pa")
+    recompaction: bool = Field(
+        RECOMPACTION_DEFAULT,
+        strict=True,
+        description="true: material separated by tension (apex / cut-off returns) re-compacts "
+        "stress-free before it carries compression again (Dunatunga & Kamrin 2015); false: the "
+        "opened volume is permanent",
+    )
+    # μ(I) friction (mu_i.rs): present = the friction angle follows the inertial number.
+    inertial_friction_angle: bounded(0.0, 90.0, lo_open=True, hi_open=True) | None = Field(  # type: ignore[valid-type]
+        None,
+        description="degrees, in [friction_angle, 90): the friction angle at large inertial "
+        "number I (mu(I) rheology, sin(phi) = mu_s + (mu_2 - mu_s) I/(I_0 + I), Jop et al. 2006); "
+        "absent = rate-independent",
+    )
+    inertial_number_scale: Positive = Field(  # type: ignore[valid-type]
+        0.279, description="I_0 of the mu(I) law (Jop et al. 2006 glass beads: 0.279)"
+    )
+    grain_diameter: Positive | None = Field(  # type: ignore[valid-type]
+        None, description="m, grain size d in I = |shear rate| d / sqrt(P / grain_density); "
+        "required with inertial_friction_angle"
+    )
+    grain_density: Positive | None = Field(  # type: ignore[valid-type]
+        None, description="kg/m³, solid density of the grains (>= density); required with "
+        "inertial_friction_angle"
+    )
+
+    def default_k0(self) -> float:
+        """Jaky's 1 − sin φ."""
+        return 1.0 - math.sin(math.radians(self.friction_angle))
+
+    def cross_errors(self, prefix: str) -> list[tuple[str, str]]:
+        """ψ ≤ φ; the μ(I) keys: φ₂ ≥ φ, grain size and density given, grain density ≥ bulk."""
+        errors: list[tuple[str, str]] = []
+        if self.dilation_angle > self.friction_angle:
+            errors.append((f"{prefix}dilation_angle",
+                           f"must be <= friction_angle = {fmt(self.friction_angle)} (got {fmt(self.dilation_angle)})"))
+        if self.inertial_friction_angle is not None:
+            if self.inertial_friction_angle < self.friction_angle:
+                errors.append((f"{prefix}inertial_friction_angle",
+                               f"must be >= friction_angle = {fmt(self.friction_angle)} and < 90 "
+                               f"(got {fmt(self.inertial_friction_angle)})"))
+            for key in ("grain_diameter", "grain_density"):
+                if getattr(self, key) is None:
+                    errors.append((f"{prefix}{key}", "is required with inertial_friction_angle"))
+            if self.grain_density is not None and self.grain_density < self.density:
+                errors.append((f"{prefix}grain_density",
+                               f"must be >= density = {fmt(self.density)} (the bulk density of the grains) "
+                               f"(got {fmt(self.grain_density)})"))
+        return errors

@@ -1,0 +1,116 @@
+"""Pydantic validation errors → ``(dotted key, message)`` pairs with the wording of
+docs/robustness.md (ranges, "did you mean", the models a key belongs to)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from .boundaries import Boundaries, BoundaryCondition, Wall
+from .fields import did_you_mean
+from .materials import MATERIAL_MODELS, MaterialModel, model_names
+from .regions import REGION_SHAPES, shape_names
+from .sections import Grid, Simulation
+
+__all__ = ["convert_errors", "dotted"]
+
+_SECTION_MODELS: dict[str, type[BaseModel]] = {
+    "simulation": Simulation,
+    "grid": Grid,
+    "boundaries": Boundaries,
+    "walls": Wall,
+}
+
+
+def _tagged(loc: tuple[Any, ...]) -> bool:
+    """``loc`` = (section, name or index, tag, ...) with the discriminator tag of a union."""
+    if len(loc) < 3:
+        return False
+    if loc[0] == "materials":
+        return str(loc[2]) in MATERIAL_MODELS
+    return loc[0] == "bodies" and len(REGION_SHAPES) > 1 and str(loc[2]) in REGION_SHAPES
+
+
+def _model_at(loc: tuple[Any, ...]) -> type[BaseModel] | None:
+    """The model class validating the table at ``loc`` (pydantic location, tags included)."""
+    if not loc:
+        from .model import Scenario
+
+        return Scenario
+    section = loc[0]
+    if section == "materials":
+        return MATERIAL_MODELS.get(str(loc[2])) if len(loc) == 3 else None
+    if section == "bodies":
+        if len(loc) == 3 and _tagged(loc):
+            return REGION_SHAPES[str(loc[2])]
+        if len(loc) == 2 and len(REGION_SHAPES) == 1:
+            return next(iter(REGION_SHAPES.values()))
+        return None
+    if section == "walls":
+        return Wall if len(loc) == 2 else None
+    if section == "boundaries":
+        return Boundaries if len(loc) == 1 else BoundaryCondition
+    if len(loc) == 1:
+        return _SECTION_MODELS.get(str(section))
+    return None
+
+
+def dotted(loc: tuple[Any, ...]) -> str:
+    """Pydantic location → dotted key, dropping the discriminator tag of materials and bodies."""
+    parts = list(loc)
+    if _tagged(loc):
+        del parts[2]
+    return ".".join(str(p) for p in parts)
+
+
+def convert_errors(exc: ValidationError) -> list[tuple[str, str]]:
+    out: list[tuple[str, str]] = []
+    for err in exc.errors(include_url=False):
+        loc = tuple(err["loc"])
+        kind = err["type"]
+        ctx = err.get("ctx") or {}
+        value = err.get("input")
+        msg = err["msg"]
+        if kind == "extra_forbidden":
+            model = _model_at(loc[:-1])
+            fields = list(model.model_fields) if model else []
+            msg = "unknown key" + did_you_mean(loc[-1], fields)
+            if model is not None and issubclass(model, MaterialModel):
+                owners = [n for n in model_names() if loc[-1] in MATERIAL_MODELS[n].model_fields]
+                if owners and "did you mean" not in msg:
+                    msg += f" (only valid for model = {' or '.join(repr(o) for o in owners)})"
+            elif model is not None and loc and loc[0] == "bodies":
+                owners = [n for n in shape_names() if loc[-1] in REGION_SHAPES[n].model_fields]
+                if owners and "did you mean" not in msg:
+                    msg += f" (only valid for shape = {' or '.join(repr(o) for o in owners)})"
+        elif kind == "missing" and loc and isinstance(loc[-1], int):
+            loc = loc[:-1]  # a too-short tuple reports its first missing index
+            msg = f"must have exactly 2 entries (got {len(value) if isinstance(value, (list, tuple)) else value!r})"
+        elif kind == "missing":
+            msg = "required key is missing"
+        elif kind == "literal_error":
+            msg = f"must be {ctx.get('expected', '')} (got {value!r})"
+            if isinstance(value, str):
+                choices = [c.strip(" '") for c in str(ctx.get("expected", "")).replace(" or ", ",").split(",")]
+                msg += did_you_mean(value, choices)
+        elif kind == "union_tag_invalid" and loc and loc[0] == "bodies":
+            loc = loc + ("shape",)
+            msg = f"unknown shape {ctx.get('tag')!r}; expected one of {', '.join(repr(n) for n in shape_names())}"
+            msg += did_you_mean(ctx.get("tag", ""), REGION_SHAPES)
+        elif kind == "union_tag_invalid":
+            loc = loc + ("model",)
+            expected = ", ".join(repr(n) for n in model_names())
+            msg = f"unknown material model {ctx.get('tag')!r}; expected one of {expected}"
+            msg += did_you_mean(ctx.get("tag", ""), MATERIAL_MODELS)
+        elif kind == "union_tag_not_found":
+            loc = loc + ("model",)
+            msg = "required key is missing (one of " + ", ".join(repr(m) for m in model_names()) + ")"
+        elif kind in ("too_long", "too_short") and isinstance(value, (list, tuple)):
+            msg = f"must have exactly 2 entries (got {len(value)})" if "tuple" in msg.lower() else msg
+        elif kind in ("float_parsing", "float_type", "int_parsing", "int_type", "int_from_float"):
+            msg = f"{msg.rstrip('.')} (got {value!r})"
+        elif kind in ("finite_number",):
+            msg = f"must be a finite number (got {value!r})"
+        out.append((dotted(loc), msg))
+    return out
