@@ -65,6 +65,32 @@ __all__ = ["run", "resume", "check_output_folder", "prepare_output_folder", "che
 DEFAULT_CHUNK_STEPS = 200
 
 
+def rigid_body_columns(sim: Any) -> dict[str, float]:
+    """History columns of the rigid bodies at the current output time: ``NAME.displacement_x/y``
+    (m) and the base/shaft split of the force, ``NAME.base_force_x/y``, ``NAME.shaft_force_x/y``
+    (N, mean since the previous row; base: contact with normals facing down). Their total is the
+    ``NAME.force_x/y`` column of the reactions."""
+    columns: dict[str, float] = {}
+    parts = {name: (bx, by, sx, sy) for name, bx, by, sx, sy in sim.rigid_body_parts()}
+    for name, dx, dy in sim.rigid_body_displacements():
+        bx, by, sx, sy = parts[name]
+        columns.update({f"{name}.displacement_x": float(dx), f"{name}.displacement_y": float(dy),
+                        f"{name}.base_force_x": float(bx), f"{name}.base_force_y": float(by),
+                        f"{name}.shaft_force_x": float(sx), f"{name}.shaft_force_y": float(sy)})
+    return columns
+
+
+def rigid_body_summary(columns: dict[str, float], reactions: dict[str, list[float]]) -> dict[str, Any]:
+    """summary.json's ``rigid_bodies``: per body, the last row's displacement, force and its
+    base and shaft parts."""
+    names = [c[: -len(".displacement_x")] for c in columns if c.endswith(".displacement_x")]
+    return {n: {"displacement": [columns[f"{n}.displacement_x"], columns[f"{n}.displacement_y"]],
+                "force": reactions.get(n, [float("nan")] * 2),
+                "base_force": [columns[f"{n}.base_force_x"], columns[f"{n}.base_force_y"]],
+                "shaft_force": [columns[f"{n}.shaft_force_x"], columns[f"{n}.shaft_force_y"]]}
+            for n in names}
+
+
 def check_output_folder(out: Path, overwrite: bool) -> None:
     """Refuse (:class:`RunError`) an ``out`` that is a file, or a non-empty folder that is
     not a previous axmpm run (a folder with axmpm's ``summary.json``) unless ``overwrite``."""
@@ -245,13 +271,17 @@ class _Driver:
         self.pvd_entries.append((frame.time, vtu))  # complete: its files and the pvd entry
         energies = {k: float(v) for k, v in sim.energies().items()}
         reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
+        rigid = rigid_body_columns(sim)
         self.history.append(
             {"time": frame.time, "steps": frame.steps, "dt": float(sim.dt),
              **dict(sorted(energies.items())), "wall_seconds": self.wall(),
-             **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")}}
+             **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")},
+             **rigid}
         )
         self.summary["energies"] = energies
         self.summary["reactions"] = reactions
+        if rigid:
+            self.summary["rigid_bodies"] = rigid_body_summary(rigid, reactions)
 
     def snapshot(self, k: int) -> None:
         """Keep the engine state of output ``k`` in memory: the last good restart point."""

@@ -421,6 +421,9 @@ fn build_one(
     grid_upper: [f64; 2],
     axisymmetric: bool,
 ) -> Result<RigidBody, String> {
+    // Keys given as null (the front end writes every key of its schema) count as absent.
+    let table: Map<String, Value> = table.iter().filter(|(_, v)| !v.is_null()).map(|(k, v)| (k.clone(), v.clone())).collect();
+    let table = &table;
     let name = match table.get("name") {
         Some(Value::String(s)) if !s.is_empty() && !s.contains(['.', ',']) && !s.contains(char::is_whitespace) => {
             s.clone()
