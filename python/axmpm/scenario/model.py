@@ -180,6 +180,9 @@ def cross_check_parts(
     errors: list[tuple[str, str]] = []
 
     if sim is not None:
+        if sim.history_interval is not None and sim.history_interval > sim.output_interval * (1 + 1e-12):
+            errors.append(("simulation.history_interval", f"must be <= output_interval = {fmt(sim.output_interval)} "
+                           f"(got {fmt(sim.history_interval)})"))
         n_out = sim.end_time / sim.output_interval
         if not math.isfinite(n_out) or n_out > MAX_OUTPUTS:
             errors.append(("simulation.output_interval",
