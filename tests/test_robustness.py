@@ -219,9 +219,13 @@ def test_schema_is_valid_json_listing_the_sections(capsys) -> None:
     assert set(schema["required"]) == {"simulation", "grid", "materials", "bodies"}
     defs = schema["$defs"]
     assert "checkpoint_interval" in defs["Simulation"]["properties"]
-    body = schema["properties"]["bodies"]["items"]["$ref"].rsplit("/", 1)[-1]  # one def per region shape
+    shapes = schema["properties"]["bodies"]["items"]["discriminator"]["mapping"]  # one def per region shape
+    assert set(shapes) == {"rectangle", "polygon"}
+    body = shapes["rectangle"].rsplit("/", 1)[-1]
     assert defs[body]["properties"]["allow_overlap"]["default"] is False
     assert defs[body]["properties"]["shape"]["default"] == "rectangle"
+    assert "vertices" in defs[shapes["polygon"].rsplit("/", 1)[-1]]["properties"]
+    assert "rigid_bodies" in schema["properties"]
 
 
 def test_out_folder_refused_unless_overwrite(capsys, tiny_toml: Path, tmp_path: Path) -> None:

@@ -95,7 +95,7 @@ def test_toml_round_trip_is_exact() -> None:
 
 def test_engine_json_has_every_section() -> None:
     d = json.loads(Scenario.from_dict(base()).engine_json())
-    assert set(d) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls"}
+    assert set(d) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls", "rigid_bodies"}
     assert d["materials"]["soil"]["model"] == "linear_elastic"
     assert d["bodies"][0]["k0"] == pytest.approx(0.3 / 0.7)
 
@@ -158,8 +158,10 @@ def test_field_error_names_the_key(override: str, key: str, text: str) -> None:
 
 MOHR_COULOMB = ['materials.soil.model="mohr_coulomb"', "materials.soil.friction_angle=30"]
 MC_CASES = [
-    ("materials.soil.friction_angle=0", "materials.soil.friction_angle", "> 0 and < 90"),
-    ("materials.soil.friction_angle=90", "materials.soil.friction_angle", "> 0 and < 90"),
+    ("materials.soil.friction_angle=-1", "materials.soil.friction_angle", ">= 0 and < 90"),
+    ("materials.soil.friction_angle=90", "materials.soil.friction_angle", ">= 0 and < 90"),
+    # φ = 0 is Tresca: only with a cohesion (the undrained strength).
+    ("materials.soil.friction_angle=0", "materials.soil.friction_angle", "= 0 (Tresca) needs cohesion > 0"),
     ("materials.soil.dilation_angle=-1", "materials.soil.dilation_angle", ">= 0"),
     ("materials.soil.dilation_angle=31", "materials.soil.dilation_angle", "<= friction_angle"),
     ("materials.soil.cohesion=-1", "materials.soil.cohesion", ">= 0"),
@@ -348,5 +350,6 @@ def test_missing_file(tmp_path: Path) -> None:
 
 def test_schema_lists_sections() -> None:
     schema = Scenario.model_json_schema()
-    assert set(schema["properties"]) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls"}
+    assert set(schema["properties"]) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls",
+                                         "rigid_bodies"}
     assert schema["$defs"]["Simulation"]["properties"]["cfl"]["exclusiveMinimum"] == 0.0

@@ -45,6 +45,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help=set_help)
     p.add_argument("--print", dest="print_resolved", action="store_true",
                    help="print the resolved scenario (every default filled in)")
+    p.add_argument("--estimate", action=argparse.BooleanOptionalAction, default=True,
+                   help="build the run and time a few steps to estimate the run time (default: on)")
+    p.add_argument("--threads", type=int, default=0, help="worker threads for the estimate, 0 = all cores (default)")
 
     sub.add_parser("schema", help="print the JSON Schema of scenario files")
 
@@ -93,6 +96,10 @@ def _cmd_check(args: argparse.Namespace) -> int:
         nx, ny = scenario.grid.cells()
         print(f"ok: {args.scenario} is valid: {sim.formulation}, {sim.shape_function}, "
               f"{scenario.particle_count()} particles, grid {nx} x {ny} cells, end_time {sim.end_time:g} s")
+        if args.estimate:
+            from .run.estimate import estimate_run
+
+            print(estimate_run(scenario, threads=args.threads).describe())
     return EXIT_OK
 
 

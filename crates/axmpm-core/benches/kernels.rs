@@ -123,6 +123,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
             top: BoundaryCondition::FREE,
         },
         walls: vec![],
+        rigid_bodies: vec![],
         extra: Default::default(),
     }
 }

@@ -297,6 +297,10 @@ pub struct Config {
     pub boundaries: BoundariesConfig,
     #[serde(default)]
     pub walls: Vec<WallConfig>,
+    /// Rigid bodies with a prescribed motion (`constraint/rigid_body.rs`): one table each,
+    /// `name`, the region keys (`shape`, ...), `velocity` or `motion`, `friction`.
+    #[serde(default)]
+    pub rigid_bodies: Vec<serde_json::Map<String, serde_json::Value>>,
     /// Any other top-level sections the front end keeps (output, analysis, ...).
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
@@ -360,6 +364,15 @@ impl Config {
         if self.bodies.is_empty() {
             return Err("bodies: at least one body is needed".into());
         }
+        self.build_rigid_bodies()?;
         Ok(())
+    }
+
+    /// The rigid bodies of the scenario (validated: errors name `rigid_bodies[i].key`).
+    pub fn build_rigid_bodies(&self) -> Result<Vec<crate::constraint::RigidBody>, String> {
+        let g = &self.grid;
+        let upper = [g.origin[0] + g.extent[0], g.origin[1] + g.extent[1]];
+        let axisymmetric = self.simulation.formulation == FormulationKind::Axisymmetric;
+        crate::constraint::rigid_body::build_all(&self.rigid_bodies, g.origin, upper, axisymmetric)
     }
 }

@@ -10,7 +10,8 @@ use crate::particles::Particles;
 
 /// Creates the particles of every body: `n × n` per cell (n = `particles_per_cell`), each at
 /// the centre of its sub-cell, with area (h/n)², mass ρ0 A_p (× R_p in axisymmetry) and
-/// half-width h/(2n).
+/// half-width h/(2n). A lattice point inside (or on) a rigid body at t = 0 gets no particle:
+/// rigid bodies cut their region out of every body.
 pub fn create_particles<F: Formulation>(
     config: &Config,
     grid: &GridGeometry,
@@ -20,6 +21,7 @@ pub fn create_particles<F: Formulation>(
     with_corners: bool,
 ) -> Result<Particles, String> {
     let mut particles = Particles { state_stride, ..Default::default() };
+    let rigid_bodies = config.build_rigid_bodies()?;
     for (i, body) in config.bodies.iter().enumerate() {
         let context = format!("bodies[{i}]");
         let region = geometry::build(&context, &body.region)?;
@@ -33,7 +35,9 @@ pub fn create_particles<F: Formulation>(
                 nu / (1.0 - nu)
             }
         };
-        add_body::<F>(&mut particles, body, region.as_ref(), grid, materials[id].as_ref(), id as u32, k0, config.simulation.gravity);
+        let mut keep = |x: [f64; 2]| !rigid_bodies.iter().any(|b| b.contains(x, 0.0));
+        let gravity = config.simulation.gravity;
+        add_body::<F>(&mut particles, body, region.as_ref(), grid, materials[id].as_ref(), id as u32, k0, gravity, &mut keep);
     }
     if with_corners {
         particles.corners = (0..particles.len())
@@ -53,6 +57,7 @@ fn add_body<F: Formulation>(
     id: u32,
     k0: f64,
     gravity: [f64; 2],
+    keep: &mut dyn FnMut([f64; 2]) -> bool,
 ) {
     let n = body.particles_per_cell as usize;
     let spacing = grid.cell_size / n as f64;
@@ -61,6 +66,9 @@ fn add_body<F: Formulation>(
     let density = material.density();
     let top = region.bounding_box().1[1];
     geometry::lattice_points(region, grid, n, |x| {
+        if !keep(x) {
+            return;
+        }
         let volume = area * F::volume_factor(x);
         let stress = match body.initial_stress {
             InitialStress::Zero => [0.0; 4],

@@ -93,6 +93,8 @@ pub struct Simulation {
     failure: Option<SimulationFailure>,
     /// Time of the last [`Simulation::reactions`] call (or of the start of this object).
     reactions_since: f64,
+    /// Time of the last [`Simulation::rigid_body_parts`] call.
+    parts_since: f64,
 }
 
 fn select_step(formulation: FormulationKind, shape: ShapeFunctionKind) -> StepFn {
@@ -192,7 +194,13 @@ impl Simulation {
             volumetric_averaging: s.volumetric_averaging,
             axisymmetric,
         };
-        let constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
+        let mut constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
+        // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.
+        let finest = config.bodies.iter().map(|b| b.particles_per_cell).min().unwrap_or(1).max(1);
+        let reach = g.cell_size / (2.0 * finest as f64);
+        for body in config.build_rigid_bodies()? {
+            constraints.push(Box::new(body.with_reach(reach)));
+        }
         let mut state = State {
             grid,
             fields: GridFields::new(grid.num_nodes()),
@@ -222,7 +230,18 @@ impl Simulation {
             .map_err(|e| format!("could not start {threads} threads: {e}"))?;
         let step_fn = select_step(s.formulation, s.shape_function);
         let reactions_since = state.time;
-        Ok(Self { config, state, material_names, state_names, dt, step_fn, pool, failure: None, reactions_since })
+        Ok(Self {
+            config,
+            state,
+            material_names,
+            state_names,
+            dt,
+            step_fn,
+            pool,
+            failure: None,
+            reactions_since,
+            parts_since: reactions_since,
+        })
     }
 
     /// Gravity at the current time: ramped linearly from zero over `gravity_ramp_time`.
@@ -374,6 +393,38 @@ impl Simulation {
             .take_impulses()
             .into_iter()
             .map(|(name, impulse)| (name, [impulse[0] * scale, impulse[1] * scale]))
+            .collect()
+    }
+
+    /// Names of the rigid bodies, in scenario order.
+    pub fn rigid_body_names(&self) -> Vec<String> {
+        use crate::constraint::Constraint;
+        self.state.constraints.rigid_bodies().map(|b| b.name().to_string()).collect()
+    }
+
+    /// Displacement of each rigid body at the current time, m: the integral of its prescribed
+    /// velocity (a function of time only).
+    pub fn rigid_body_displacements(&self) -> Vec<(String, [f64; 2])> {
+        use crate::constraint::Constraint;
+        let t = self.state.time;
+        self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.displacement(t))).collect()
+    }
+
+    /// Per rigid body, the mean force (N, whole body) the material exerted on it since the last
+    /// call, split into the base (contact normals facing down) and the rest (the shaft):
+    /// `(name, base, shaft)`. Independent of [`Simulation::reactions`], whose force is their sum.
+    pub fn rigid_body_parts(&mut self) -> Vec<(String, [f64; 2], [f64; 2])> {
+        use crate::constraint::Constraint;
+        let elapsed = self.state.time - self.parts_since;
+        self.parts_since = self.state.time;
+        let scale = if elapsed > 0.0 { self.total_factor() / elapsed } else { 0.0 };
+        self.state
+            .constraints
+            .rigid_bodies_mut()
+            .map(|b| {
+                let (base, shaft) = b.take_impulse_parts();
+                (b.name().to_string(), [base[0] * scale, base[1] * scale], [shaft[0] * scale, shaft[1] * scale])
+            })
             .collect()
     }
 

@@ -38,6 +38,7 @@ pub fn block(
         bodies: vec![BodyConfig { velocity, ..BodyConfig::rectangle("m", [0.6, 0.6], [1.0, 1.2]) }],
         boundaries: BoundariesConfig::default(),
         walls: vec![],
+        rigid_bodies: vec![],
         extra: Default::default(),
     }
 }

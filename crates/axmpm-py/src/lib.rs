@@ -167,6 +167,16 @@ impl PySimulation {
     fn reaction_names(&self) -> Vec<String> {
         self.inner.reaction_names()
     }
+    /// Per rigid body, its displacement (m) at the current time: [(name, dx, dy), ...].
+    fn rigid_body_displacements(&self) -> Vec<(String, f64, f64)> {
+        self.inner.rigid_body_displacements().into_iter().map(|(name, d)| (name, d[0], d[1])).collect()
+    }
+    /// Per rigid body, the mean force (N, whole body) since the last call split into the base
+    /// (contact normals facing down) and the rest (shaft):
+    /// [(name, base_x, base_y, shaft_x, shaft_y), ...]. Resets its own accumulators.
+    fn rigid_body_parts(&mut self) -> Vec<(String, f64, f64, f64, f64)> {
+        self.inner.rigid_body_parts().into_iter().map(|(name, b, s)| (name, b[0], b[1], s[0], s[1])).collect()
+    }
     /// Wall seconds spent in each phase of the step since construction:
     /// {"particle_to_grid", "grid_update", "grid_to_particle", "constitutive_update"}.
     fn timings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

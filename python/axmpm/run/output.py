@@ -10,7 +10,10 @@ Layout of a run folder::
                              and NAME.force_x, NAME.force_y per constraint that reports a
                              reaction (faces that are not free, walls): the mean force the
                              material exerted on it since the previous row (N; axisymmetric:
-                             whole body, plane strain: per metre)
+                             whole body, plane strain: per metre); per rigid body also
+                             NAME.displacement_x/y (m) and the force split into
+                             NAME.base_force_x/y (contact normals facing down) and
+                             NAME.shaft_force_x/y (the rest)
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these
@@ -520,6 +523,20 @@ class Run:
         names = [c[: -len(".force_x")] for c in history if c.endswith(".force_x")]
         return {n: np.stack([history[f"{n}.force_x"], history[f"{n}.force_y"]], axis=1)
                 for n in names if f"{n}.force_y" in history}
+
+    @property
+    def rigid_bodies(self) -> dict[str, dict[str, NDArray[np.float64]]]:
+        """Per rigid body, at every history row: ``displacement``, ``force``, ``base_force``,
+        ``shaft_force`` as (T, 2) arrays [x, y] (m; N, the mean since the previous row, whole body;
+        base: contact with normals facing down, shaft: the rest)."""
+        history = self.history
+        names = [c[: -len(".displacement_x")] for c in history if c.endswith(".displacement_x")]
+        out: dict[str, dict[str, NDArray[np.float64]]] = {}
+        for n in names:
+            pair = {key: np.stack([history[f"{n}.{key}_x"], history[f"{n}.{key}_y"]], axis=1)
+                    for key in ("displacement", "force", "base_force", "shaft_force") if f"{n}.{key}_y" in history}
+            out[n] = pair
+        return out
 
     @property
     def times(self) -> NDArray[np.float64]:

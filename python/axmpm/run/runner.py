@@ -65,6 +65,32 @@ __all__ = ["run", "resume", "check_output_folder", "prepare_output_folder", "che
 DEFAULT_CHUNK_STEPS = 200
 
 
+def rigid_body_columns(sim: Any) -> dict[str, float]:
+    """History columns of the rigid bodies at the current output time: ``NAME.displacement_x/y``
+    (m) and the base/shaft split of the force, ``NAME.base_force_x/y``, ``NAME.shaft_force_x/y``
+    (N, mean since the previous row; base: contact with normals facing down). Their total is the
+    ``NAME.force_x/y`` column of the reactions."""
+    columns: dict[str, float] = {}
+    parts = {name: (bx, by, sx, sy) for name, bx, by, sx, sy in sim.rigid_body_parts()}
+    for name, dx, dy in sim.rigid_body_displacements():
+        bx, by, sx, sy = parts[name]
+        columns.update({f"{name}.displacement_x": float(dx), f"{name}.displacement_y": float(dy),
+                        f"{name}.base_force_x": float(bx), f"{name}.base_force_y": float(by),
+                        f"{name}.shaft_force_x": float(sx), f"{name}.shaft_force_y": float(sy)})
+    return columns
+
+
+def rigid_body_summary(columns: dict[str, float], reactions: dict[str, list[float]]) -> dict[str, Any]:
+    """summary.json's ``rigid_bodies``: per body, the last row's displacement, force and its
+    base and shaft parts."""
+    names = [c[: -len(".displacement_x")] for c in columns if c.endswith(".displacement_x")]
+    return {n: {"displacement": [columns[f"{n}.displacement_x"], columns[f"{n}.displacement_y"]],
+                "force": reactions.get(n, [float("nan")] * 2),
+                "base_force": [columns[f"{n}.base_force_x"], columns[f"{n}.base_force_y"]],
+                "shaft_force": [columns[f"{n}.shaft_force_x"], columns[f"{n}.shaft_force_y"]]}
+            for n in names}
+
+
 def check_output_folder(out: Path, overwrite: bool) -> None:
     """Refuse (:class:`RunError`) an ``out`` that is a file, or a non-empty folder that is
     not a previous axmpm run (a folder with axmpm's ``summary.json``) unless ``overwrite``."""
@@ -165,6 +191,19 @@ def checkpoint_every(sim_cfg: Any) -> int | None:
     return max(1, math.ceil(interval / sim_cfg.output_interval - 1e-9))
 
 
+def _row_times(sim_cfg: Any, k: int) -> list[tuple[float, bool]]:
+    """The times to stop at on the way to output ``k``: (time, is the frame) — the history rows
+    every ``history_interval`` after output k − 1 (when set), then output k itself."""
+    target = _output_time(sim_cfg, k)
+    interval = getattr(sim_cfg, "history_interval", None)
+    times: list[tuple[float, bool]] = []
+    if interval:
+        start = _output_time(sim_cfg, k - 1)
+        n = math.ceil((target - start) / interval - 1e-9)
+        times = [(start + j * interval, False) for j in range(1, n) if start + j * interval < target * (1 - 1e-12)]
+    return times + [(target, True)]
+
+
 def _output_count(sim_cfg: Any) -> int:
     return max(1, math.ceil(sim_cfg.end_time / sim_cfg.output_interval - 1e-9))
 
@@ -230,6 +269,24 @@ class _Driver:
 
     # -- pieces -------------------------------------------------------------------------
 
+    def record_history(self, time: float, steps: int) -> None:
+        """A history row at the current time: energies, reactions (mean forces since the
+        previous row), rigid bodies."""
+        sim = self.sim
+        energies = {k: float(v) for k, v in sim.energies().items()}
+        reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
+        rigid = rigid_body_columns(sim)
+        self.history.append(
+            {"time": time, "steps": steps, "dt": float(sim.dt),
+             **dict(sorted(energies.items())), "wall_seconds": self.wall(),
+             **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")},
+             **rigid}
+        )
+        self.summary["energies"] = energies
+        self.summary["reactions"] = reactions
+        if rigid:
+            self.summary["rigid_bodies"] = rigid_body_summary(rigid, reactions)
+
     def record(self) -> None:
         """Frame, pvd and history row at the current (output) time."""
         sim, out = self.sim, self.out
@@ -243,15 +300,7 @@ class _Driver:
                 remove_frames_from(out, index)  # an incomplete frame is not kept
             raise
         self.pvd_entries.append((frame.time, vtu))  # complete: its files and the pvd entry
-        energies = {k: float(v) for k, v in sim.energies().items()}
-        reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
-        self.history.append(
-            {"time": frame.time, "steps": frame.steps, "dt": float(sim.dt),
-             **dict(sorted(energies.items())), "wall_seconds": self.wall(),
-             **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")}}
-        )
-        self.summary["energies"] = energies
-        self.summary["reactions"] = reactions
+        self.record_history(frame.time, frame.steps)
 
     def snapshot(self, k: int) -> None:
         """Keep the engine state of output ``k`` in memory: the last good restart point."""
@@ -326,25 +375,28 @@ class _Driver:
             bar.update(float(sim.time))
             with _sigint_flag() as flag:
                 for k in range(start_k + 1, n_outputs + 1):
-                    target = _output_time(sim_cfg, k)
-                    while sim.time < target - tolerance:
-                        if flag["hit"]:
-                            raise KeyboardInterrupt
-                        t0 = _time.perf_counter()
-                        try:
-                            taken = sim.advance(target, max_steps=self.chunk_steps)
-                        except self.failure_type as exc:
-                            self.engine_seconds += _time.perf_counter() - t0
-                            bar.close()
-                            return self.fail(str(exc) or type(exc).__name__)
-                        dt_wall = _time.perf_counter() - t0
-                        self.engine_seconds += dt_wall
-                        if taken == 0 and sim.time < target - tolerance:
-                            bar.close()
-                            return self.fail(f"the engine made no progress at t = {sim.time:g} s")
-                        bar.update(float(sim.time) - bar.n)
-                        if dt_wall > 0:
-                            bar.set_postfix_str(f"{taken / dt_wall:.0f} steps/s", refresh=False)
+                    # History rows between two frames (history_interval), then the frame.
+                    for target, frame in _row_times(sim_cfg, k):
+                        while sim.time < target - tolerance:
+                            if flag["hit"]:
+                                raise KeyboardInterrupt
+                            t0 = _time.perf_counter()
+                            try:
+                                taken = sim.advance(target, max_steps=self.chunk_steps)
+                            except self.failure_type as exc:
+                                self.engine_seconds += _time.perf_counter() - t0
+                                bar.close()
+                                return self.fail(str(exc) or type(exc).__name__)
+                            dt_wall = _time.perf_counter() - t0
+                            self.engine_seconds += dt_wall
+                            if taken == 0 and sim.time < target - tolerance:
+                                bar.close()
+                                return self.fail(f"the engine made no progress at t = {sim.time:g} s")
+                            bar.update(float(sim.time) - bar.n)
+                            if dt_wall > 0:
+                                bar.set_postfix_str(f"{taken / dt_wall:.0f} steps/s", refresh=False)
+                        if not frame:
+                            self.record_history(float(sim.time), int(sim.steps))
                     self.record()
                     self.snapshot(k)
                     if (_at_rest(self.summary["energies"], float(sim.time), sim_cfg)

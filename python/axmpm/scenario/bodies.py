@@ -71,6 +71,11 @@ class Region(Section):
         direction and cell)."""
         raise NotImplementedError
 
+    def lattice_points(self, origin: Vec2, cell_size: float) -> Any:
+        """The positions (N × 2 numpy array) of the particles the engine creates for this body
+        alone (before rigid bodies cut theirs out), on the grid anchored at ``origin``."""
+        raise NotImplementedError
+
 
 def body_class(region: type[Region]) -> type[Section]:
     """The ``[[bodies]]`` class of a shape: the common keys around the region's keys (in the

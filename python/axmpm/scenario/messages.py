@@ -11,6 +11,7 @@ from .boundaries import Boundaries, BoundaryCondition, Wall
 from .fields import did_you_mean
 from .materials import MATERIAL_MODELS, MaterialModel, model_names
 from .regions import REGION_SHAPES, shape_names
+from .rigid_bodies import RigidBody
 from .sections import Grid, Simulation
 
 __all__ = ["convert_errors", "dotted"]
@@ -49,6 +50,8 @@ def _model_at(loc: tuple[Any, ...]) -> type[BaseModel] | None:
         return None
     if section == "walls":
         return Wall if len(loc) == 2 else None
+    if section == "rigid_bodies":
+        return RigidBody if len(loc) == 2 else None
     if section == "boundaries":
         return Boundaries if len(loc) == 1 else BoundaryCondition
     if len(loc) == 1:

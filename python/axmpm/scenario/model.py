@@ -26,6 +26,7 @@ from .files import apply_overrides, drop_none, inline_short_arrays, read_toml
 from .materials import material_type
 from .messages import convert_errors
 from .regions import body_type
+from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
 from .sections import Grid, Simulation
 
 __all__ = ["Scenario", "Material", "Body", "schema_json"]
@@ -45,6 +46,7 @@ class Scenario(Section):
     bodies: list[Body]  # type: ignore[valid-type]
     boundaries: Boundaries = Field(default_factory=Boundaries)
     walls: list[Wall] = Field(default_factory=list)
+    rigid_bodies: list[RigidBody] = Field(default_factory=list)
 
     @model_validator(mode="after")
     def _cross_check(self) -> "Scenario":
@@ -102,8 +104,21 @@ class Scenario(Section):
     # -- derived quantities -------------------------------------------------------------
 
     def particle_count(self) -> int:
-        """Number of particles the bodies will create."""
-        return sum(body.particle_count(self.grid.cell_size) for body in self.bodies)
+        """Number of particles the bodies will create (rigid bodies cut theirs out)."""
+        if not self.rigid_bodies and all(body.shape == "rectangle" for body in self.bodies):
+            return sum(body.particle_count(self.grid.cell_size) for body in self.bodies)
+        return sum(len(p) for p in self.particle_positions())
+
+    def particle_positions(self) -> list[Any]:
+        """Per body, the initial particle positions (N × 2 arrays) the engine creates: the body's
+        lattice points (sub-cell centres) inside its region and outside every rigid body."""
+        out = []
+        for body in self.bodies:
+            points = body.lattice_points(self.grid.origin, self.grid.cell_size)
+            for rigid in self.rigid_bodies:
+                points = points[~rigid.contains(points)]
+            out.append(points)
+        return out
 
     def material_names(self) -> list[str]:
         """Material names in engine order (sorted), so ``material_id`` indexes this list."""
@@ -120,7 +135,8 @@ def schema_json(indent: int = 2) -> str:
 
 def _cross_check(s: Scenario) -> list[tuple[str, str]]:
     return cross_check_parts(
-        s.simulation, s.grid, dict(s.materials), list(s.materials), list(s.bodies), s.boundaries, list(s.walls)
+        s.simulation, s.grid, dict(s.materials), list(s.materials), list(s.bodies), s.boundaries, list(s.walls),
+        list(s.rigid_bodies),
     )
 
 
@@ -155,6 +171,7 @@ def cross_check_parts(
     bodies: list[Any] | None,
     boundaries: Boundaries | None,
     walls: list[Wall | None] | None,
+    rigid_bodies: list[RigidBody | None] | None = None,
 ) -> list[tuple[str, str]]:
     """Cross checks between sections. ``None`` stands for a part that failed its own field
     checks (or a whole section that did): the checks needing it are skipped, so that this can
@@ -163,6 +180,9 @@ def cross_check_parts(
     errors: list[tuple[str, str]] = []
 
     if sim is not None:
+        if sim.history_interval is not None and sim.history_interval > sim.output_interval * (1 + 1e-12):
+            errors.append(("simulation.history_interval", f"must be <= output_interval = {fmt(sim.output_interval)} "
+                           f"(got {fmt(sim.history_interval)})"))
         n_out = sim.end_time / sim.output_interval
         if not math.isfinite(n_out) or n_out > MAX_OUTPUTS:
             errors.append(("simulation.output_interval",
@@ -225,6 +245,11 @@ def cross_check_parts(
                 errors.append((f"walls.{i}.position",
                                f"must lie on a grid line (multiples of {fmt(h)} m from the origin "
                                f"{fmt(lo[axis])}) (got {fmt(wall.position)})"))
+
+    if rigid_bodies:
+        taken = set(FACE_NAMES) | {f"wall_{i}" for i in range(len(walls or []))}
+        axisymmetric = None if sim is None else sim.formulation == "axisymmetric"
+        errors.extend(rigid_body_errors(rigid_bodies, frame, axisymmetric, taken))
     return errors
 
 
@@ -262,7 +287,9 @@ def _partial_cross_check(data: dict[str, Any]) -> list[tuple[str, str]]:
     boundaries = _validate_part(Boundaries, data.get("boundaries", {}))
     raw_walls = data.get("walls", [])
     walls = [_validate_part(Wall, w) for w in raw_walls] if isinstance(raw_walls, list) else None
-    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls)
+    raw_rigid = data.get("rigid_bodies", [])
+    rigid = [_validate_part(RigidBody, b) for b in raw_rigid] if isinstance(raw_rigid, list) else None
+    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid)
 
 
 def _merge_errors(field: list[tuple[str, str]], cross: list[tuple[str, str]]) -> list[tuple[str, str]]:

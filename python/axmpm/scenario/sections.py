@@ -41,6 +41,9 @@ class Simulation(Section):
     shape_function: InterpolationScheme
     end_time: Positive = Field(description="s, simulated time to reach")
     output_interval: Positive = Field(description="s, time between output frames")
+    history_interval: Positive | None = Field(  # type: ignore[valid-type]
+        None, description="s: a history.csv row (energies, reactions, rigid bodies) this often between "
+        "output frames, <= output_interval; absent = rows at the output times only")
     gravity: Vec2 = Field((0.0, -9.81), description="m/s², [x or r, y or z]")
     gravity_ramp_time: NonNegative = Field(
         0.0, description="s: gravity grows linearly from 0 over this time"

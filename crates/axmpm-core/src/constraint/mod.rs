@@ -44,10 +44,12 @@ use crate::grid::GridGeometry;
 
 pub mod axis;
 pub mod face;
+pub mod rigid_body;
 pub mod wall;
 
 pub use axis::SymmetryAxis;
 pub use face::GridFace;
+pub use rigid_body::RigidBody;
 pub use wall::Wall;
 
 /// What a constraint may read when it corrects nodal velocities.
@@ -82,6 +84,18 @@ pub trait Constraint: Send + Sync {
     /// Whether the constraint's reaction is reported in the history (faces/walls/rigid bodies).
     fn reports_reaction(&self) -> bool {
         true
+    }
+    /// Whether the constraint also corrects the start-of-step velocities (faces, axis, walls:
+    /// yes; a rigid body's contact: no, see `rigid_body.rs`).
+    fn applies_to_start_of_step(&self) -> bool {
+        true
+    }
+    /// The rigid body behind this constraint, if it is one (displacements, base/shaft split).
+    fn as_rigid_body(&self) -> Option<&RigidBody> {
+        None
+    }
+    fn as_rigid_body_mut(&mut self) -> Option<&mut RigidBody> {
+        None
     }
 }
 
@@ -240,6 +254,24 @@ impl Constraints {
         for c in &mut self.list {
             c.apply(context, velocity, record);
         }
+    }
+
+    /// Applies, in order, the constraints that correct start-of-step velocities (not recorded).
+    pub fn apply_start_of_step(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]]) {
+        for c in &mut self.list {
+            if c.applies_to_start_of_step() {
+                c.apply(context, velocity, false);
+            }
+        }
+    }
+
+    /// The rigid bodies among the constraints, in order.
+    pub fn rigid_bodies(&self) -> impl Iterator<Item = &RigidBody> {
+        self.list.iter().filter_map(|c| c.as_rigid_body())
+    }
+
+    pub fn rigid_bodies_mut(&mut self) -> impl Iterator<Item = &mut RigidBody> {
+        self.list.iter_mut().filter_map(|c| c.as_rigid_body_mut())
     }
 
     /// Names of the constraints that report a reaction, in order.

@@ -7,9 +7,11 @@
 use serde_json::{Map, Value};
 
 pub mod fill;
+pub mod polygon;
 pub mod rectangle;
 
 pub use fill::lattice_points;
+pub use polygon::Polygon;
 pub use rectangle::Rectangle;
 
 pub trait Region: Send + Sync + std::fmt::Debug {
@@ -34,7 +36,7 @@ pub trait Region: Send + Sync + std::fmt::Debug {
 pub type RegionBuilder = fn(context: &str, table: &Map<String, Value>) -> Result<Box<dyn Region>, String>;
 
 /// The shapes a body may have: name → builder. One line per shape.
-pub const SHAPES: &[(&str, RegionBuilder)] = &[("rectangle", rectangle::build)];
+pub const SHAPES: &[(&str, RegionBuilder)] = &[("rectangle", rectangle::build), ("polygon", polygon::build)];
 
 /// Shape of a body table without a `shape` key.
 pub const DEFAULT_SHAPE: &str = "rectangle";
@@ -83,7 +85,7 @@ mod tests {
         assert_eq!(r.shape(), "rectangle");
         assert_eq!(r.bounding_box(), ([0.0, 0.1], [0.2, 0.4]));
         let err = build("bodies[1]", &table(json!({"shape": "circle", "min": [0.0, 0.0]}))).unwrap_err();
-        assert_eq!(err, "bodies[1].shape: unknown shape 'circle' (known: rectangle)");
+        assert_eq!(err, "bodies[1].shape: unknown shape 'circle' (known: rectangle, polygon)");
         let err = build("bodies[0]", &table(json!({"shape": "rectangle", "min": [0.0], "max": [1.0, 1.0]}))).unwrap_err();
         assert!(err.starts_with("bodies[0].min: must be a point"), "{err}");
         let err = build("bodies[0]", &table(json!({"max": [1.0, 1.0]}))).unwrap_err();

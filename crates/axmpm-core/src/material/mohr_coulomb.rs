@@ -81,6 +81,25 @@
 //!    D e1, normal C e2) gives σ_C2 = σ_B2 − ν (σ_B1 − σ_t + σ_B3 − σ_C3); if σ_C2 > σ_t the corner
 //!    (σ_t, σ_t, kσ_t − 2c√k), if σ_C2 < σ_C3 the corner (σ_t, kσ_t − 2c√k, kσ_t − 2c√k).
 //!
+//! ## Tresca: φ = 0 (undrained clay, total stress; PHYSICS.md §8, `docs/physics.md` §8)
+//!
+//! With `friction_angle = 0` (allowed when `cohesion > 0`; the dilation angle is then 0) the
+//! same formulas give Tresca, f = σ1 − σ3 − 2c: k = m = 1, the plane return moves σ1 and σ3 by
+//! ∓f/2 (r_p = (1, 0, −1)/2), and the edge directions r_l1 = −(1, 1, 1), r_l2 = −(1, 1, 1) are
+//! parallel to the hydrostatic axis: the prism has no apex (σ_a = c cot 0 = ∞). The edges are then
+//! measured from finite points on them instead of the apex, o1 = (2c/3, 2c/3, −4c/3) on l1 and
+//! o2 = (4c/3, −2c/3, −2c/3) on l2 (mean stress 0), σ_C = o + t r_l with the same t = n·(σ_B − o);
+//! with ψ = 0 that keeps the mean stress of the trial (isochoric flow). Without an apex the apex
+//! region and the half-line limits t ≥ 0 do not exist: p1 < 0 means edge l1, p2 < 0 edge l2 (both
+//! cannot be negative, since p1 + p2 = σ_C1^p − σ_C3^p = 2c > 0). Closed-form strengths:
+//! uniaxial compression or tension and plane-strain compression all fail at |σ1 − σ3| = 2c (in
+//! plane strain σ_zz stays intermediate because the flow (1, 0, −1) has no out-of-plane part),
+//! simple shear at τ = c, independent of the mean stress.
+//!
+//! An undrained total-stress analysis has no tension cut-off: for φ = 0 an unset
+//! `tension_cutoff` means none (σ_t = ∞); a given value is honoured. For φ > 0 the unset value
+//! stays 0.
+//!
 //! # State variables
 //!
 //! With the principal plastic strain increment Δε^p = C (σ_B − σ_C) (tensor strain; coaxial with
@@ -203,7 +222,7 @@ pub struct MohrCoulomb {
     pub dilation_angle: f64,
     /// Pa.
     pub cohesion: f64,
-    /// Pa, as configured (the effective value is clamped to the apex).
+    /// Pa, as configured (the effective value is clamped to the apex); `f64::INFINITY` = none.
     pub tension_cutoff: f64,
     /// Separated (apex / tension) material re-compacts stress-free (module doc).
     pub recompaction: bool,
@@ -216,10 +235,17 @@ pub struct MohrCoulomb {
     m: f64,
     /// 2c√k.
     two_c_sqrt_k: f64,
-    /// Apex σ_a = c cot φ.
+    /// Apex σ_a = c cot φ (∞ for Tresca, φ = 0).
     apex: f64,
+    /// The yield surface has an apex (φ > 0); Tresca (φ = 0) is an open prism.
+    has_apex: bool,
+    /// Points the edge lines l1, l2 are measured from: the apex, or for Tresca the points of
+    /// mean stress 0 on each edge (module doc).
+    edge_origin: [[f64; 3]; 2],
     /// Effective cut-off min(σ_t, σ_a).
     sigma_t: f64,
+    /// |σ_t| where finite, else 0: the cut-off's share of the stress scale of the tolerances.
+    sigma_t_scale: f64,
     /// σ_t < σ_a: the cut-off is active.
     cutoff: bool,
     /// Plane return direction D b / (aᵀ D b).
@@ -240,8 +266,9 @@ fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
 }
 
 impl MohrCoulomb {
-    /// Angles in degrees. Preconditions (checked by [`MohrCoulomb::from_config`]):
-    /// 0 < φ < 90, 0 ≤ ψ ≤ φ, c ≥ 0, σ_t ≥ 0, E > 0, −1 < ν < 0.5.
+    /// Angles in degrees. Preconditions (checked by [`MohrCoulomb::from_parameters`]):
+    /// 0 ≤ φ < 90 (φ = 0 only with c > 0: Tresca), 0 ≤ ψ ≤ φ, c ≥ 0, σ_t ≥ 0 (∞ = no cut-off),
+    /// E > 0, −1 < ν < 0.5.
     pub fn new(
         density: f64,
         youngs_modulus: f64,
@@ -257,9 +284,17 @@ impl MohrCoulomb {
         let k = (1.0 + sphi) / (1.0 - sphi);
         let m = (1.0 + spsi) / (1.0 - spsi);
         let two_c_sqrt_k = 2.0 * cohesion * k.sqrt();
-        let apex = two_c_sqrt_k / (k - 1.0);
+        let has_apex = k > 1.0;
+        let apex = if has_apex { two_c_sqrt_k / (k - 1.0) } else { f64::INFINITY };
         let sigma_t = tension_cutoff.min(apex);
         let cutoff = sigma_t < apex;
+        let sigma_t_scale = if sigma_t.is_finite() { sigma_t.abs() } else { 0.0 };
+        let edge_origin = if has_apex {
+            [[apex; 3]; 2]
+        } else {
+            let third = two_c_sqrt_k / 3.0; // 2c/3 (k = 1)
+            [[third, third, -2.0 * third], [2.0 * third, -third, -third]]
+        };
 
         let stiff = |v: [f64; 3]| -> [f64; 3] {
             let tr = lambda * (v[0] + v[1] + v[2]);
@@ -303,7 +338,10 @@ impl MohrCoulomb {
             m,
             two_c_sqrt_k,
             apex,
+            has_apex,
+            edge_origin,
             sigma_t,
+            sigma_t_scale,
             cutoff,
             r_p,
             r_l1,
@@ -320,12 +358,13 @@ impl MohrCoulomb {
         self
     }
 
-    /// From a material table: the elastic keys, `friction_angle` (required), `dilation_angle`,
-    /// `cohesion`, `tension_cutoff` (default 0) and `recompaction`.
+    /// From a material table: the elastic keys, `friction_angle` (required; 0 = Tresca, then
+    /// `cohesion` > 0), `dilation_angle`, `cohesion`, `tension_cutoff` (default 0; none for
+    /// Tresca) and `recompaction`.
     pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
         let phi = p.optional_f64("friction_angle")?.ok_or_else(|| p.error("friction_angle", "is required for mohr_coulomb"))?;
-        if !(phi > 0.0 && phi < 90.0) {
-            return Err(p.error("friction_angle", format!("must be in (0, 90) degrees for mohr_coulomb (got {phi})")));
+        if !(phi >= 0.0 && phi < 90.0) {
+            return Err(p.error("friction_angle", format!("must be in [0, 90) degrees for mohr_coulomb (got {phi})")));
         }
         let psi = p.f64_or("dilation_angle", 0.0)?;
         if !(psi >= 0.0 && psi <= phi) {
@@ -338,8 +377,16 @@ impl MohrCoulomb {
         if !(coh >= 0.0 && coh.is_finite()) {
             return Err(p.error("cohesion", format!("must be >= 0 for mohr_coulomb (got {coh})")));
         }
-        let st = p.f64_or("tension_cutoff", 0.0)?;
-        if !(st >= 0.0 && st.is_finite()) {
+        if phi == 0.0 && !(coh > 0.0) {
+            return Err(p.error(
+                "friction_angle",
+                format!("= 0 (Tresca) needs cohesion > 0 for mohr_coulomb (got cohesion = {coh})"),
+            ));
+        }
+        // Tresca (undrained, total stress): no cut-off unless one is given (module doc).
+        let given = p.optional_f64("tension_cutoff")?;
+        let st = given.unwrap_or(if phi == 0.0 { f64::INFINITY } else { 0.0 });
+        if !(st >= 0.0 && (st.is_finite() || given.is_none())) {
             return Err(p.error("tension_cutoff", format!("must be >= 0 for mohr_coulomb (got {st})")));
         }
         let youngs_modulus = p.f64("youngs_modulus")?;
@@ -364,7 +411,7 @@ impl MohrCoulomb {
         self.k * s[0] - s[2] - self.two_c_sqrt_k
     }
 
-    /// Apex stress c cot φ and effective tension cut-off min(σ_t, c cot φ).
+    /// Apex stress c cot φ and effective tension cut-off min(σ_t, c cot φ) (∞ when absent).
     pub fn apex_and_cutoff(&self) -> (f64, f64) {
         (self.apex, self.sigma_t)
     }
@@ -372,12 +419,13 @@ impl MohrCoulomb {
     /// Mohr–Coulomb part of the return for a sorted trial with f(s) > 0 (Clausen et al. 2007).
     #[inline(always)]
     fn return_mohr_coulomb(&self, s: &[f64; 3]) -> ([f64; 3], ReturnRegion) {
-        let sa = self.apex;
         let f = self.yield_function(s);
-        let x = [s[0] - sa, s[1] - sa, s[2] - sa];
-        let t1 = dot(&self.n_l1, &x);
-        let t2 = dot(&self.n_l2, &x);
-        if t1 <= 0.0 && t2 <= 0.0 {
+        // Edge parameters from the apex (φ > 0) or from a point on each edge (Tresca).
+        let [o1, o2] = &self.edge_origin;
+        let t1 = dot(&self.n_l1, &[s[0] - o1[0], s[1] - o1[1], s[2] - o1[2]]);
+        let t2 = dot(&self.n_l2, &[s[0] - o2[0], s[1] - o2[1], s[2] - o2[2]]);
+        if self.has_apex && t1 <= 0.0 && t2 <= 0.0 {
+            let sa = self.apex;
             return ([sa, sa, sa], ReturnRegion::Apex);
         }
         let sc = [s[0] - f * self.r_p[0], s[1] - f * self.r_p[1], s[2] - f * self.r_p[2]];
@@ -386,13 +434,13 @@ impl MohrCoulomb {
         if p1 >= 0.0 && p2 >= 0.0 {
             return (sc, ReturnRegion::Plane);
         }
-        if p1 < 0.0 && t1 > 0.0 {
+        if p1 < 0.0 && (t1 > 0.0 || !self.has_apex) {
             let r = &self.r_l1;
-            return ([sa + t1 * r[0], sa + t1 * r[1], sa + t1 * r[2]], ReturnRegion::EdgeCompression);
+            return ([o1[0] + t1 * r[0], o1[1] + t1 * r[1], o1[2] + t1 * r[2]], ReturnRegion::EdgeCompression);
         }
-        let t2 = t2.max(0.0);
+        let t2 = if self.has_apex { t2.max(0.0) } else { t2 };
         let r = &self.r_l2;
-        ([sa + t2 * r[0], sa + t2 * r[1], sa + t2 * r[2]], ReturnRegion::EdgeExtension)
+        ([o2[0] + t2 * r[0], o2[1] + t2 * r[1], o2[2] + t2 * r[2]], ReturnRegion::EdgeExtension)
     }
 
     /// Rankine (tension cut-off) return of a sorted trial with σ1 > σ_t (Clausen et al. 2006).
@@ -430,7 +478,7 @@ impl MohrCoulomb {
 
     /// Full return mapping of sorted principal trial stresses `s` (σ1 ≥ σ2 ≥ σ3).
     pub fn return_principal(&self, s: &[f64; 3]) -> ([f64; 3], ReturnRegion) {
-        let scale = s[0].abs() + s[1].abs() + s[2].abs() + self.two_c_sqrt_k + self.sigma_t.abs();
+        let scale = s[0].abs() + s[1].abs() + s[2].abs() + self.two_c_sqrt_k + self.sigma_t_scale;
         let tol = 1e-14 * self.k * scale;
         let f = self.yield_function(s);
         let shear = f > tol;
@@ -488,7 +536,7 @@ impl MohrCoulomb {
         let (a, b) = (centre + r, centre - r);
         let s1 = if a > tr[2] { a } else { tr[2] };
         let s3 = if b < tr[2] { b } else { tr[2] };
-        let scale = centre.abs() + r + tr[2].abs() + self.two_c_sqrt_k + self.sigma_t.abs();
+        let scale = centre.abs() + r + tr[2].abs() + self.two_c_sqrt_k + self.sigma_t_scale;
         // The absolute term covers the underflow of `half * half` for tiny stresses.
         let margin = self.elastic_margin * scale + 1e-140;
         self.yield_function(&[s1, 0.0, s3]) < -margin && (!self.cutoff || s1 < self.sigma_t - margin)
@@ -938,7 +986,15 @@ mod tests {
     #[test]
     fn associated_return_is_the_closest_point_projection() {
         let mut rng = Lcg(777);
-        for &(phi, c, st) in &[(30.0, 20e3, 10e3), (30.0, 0.0, 0.0), (40.0, 30e3, 0.0), (15.0, 10e3, 1e9)] {
+        for &(phi, c, st) in &[
+            (30.0, 20e3, 10e3),
+            (30.0, 0.0, 0.0),
+            (40.0, 30e3, 0.0),
+            (15.0, 10e3, 1e9),
+            // Tresca (φ = ψ = 0 is associated): without and with a cut-off.
+            (0.0, 20e3, f64::INFINITY),
+            (0.0, 20e3, 5e3),
+        ] {
             let m = mc(phi, phi, c, st);
             let k = m.k;
             let b = m.two_c_sqrt_k;
@@ -956,7 +1012,7 @@ mod tests {
                 faces.push((vec![[k, 0.0, -1.0], [1.0, 0.0, 0.0]], vec![b, ts]));
                 let s3 = k * ts - b;
                 vertices.extend([[ts, ts, s3], [ts, s3, s3], [ts, ts, ts]]);
-            } else {
+            } else if m.has_apex {
                 vertices.push([m.apex; 3]);
             }
             for _ in 0..20000 {
@@ -1294,7 +1350,7 @@ mod tests {
         );
         for (key, value) in [
             ("friction_angle", 90.0),
-            ("friction_angle", 0.0),
+            ("friction_angle", -1.0),
             ("dilation_angle", 31.0),
             ("dilation_angle", -1.0),
             ("cohesion", -1.0),
@@ -1307,6 +1363,23 @@ mod tests {
             assert!(e.starts_with(&format!("materials.sand.{key}: must be")), "{e}");
         }
         assert_eq!(err("recompaction", 1.into()), "materials.sand.recompaction: must be true or false (got 1)");
+        // φ = 0 is Tresca: needs c > 0, forces ψ = 0, and has no tension cut-off by default.
+        assert_eq!(
+            err("friction_angle", 0.0.into()),
+            "materials.sand.friction_angle: = 0 (Tresca) needs cohesion > 0 for mohr_coulomb (got cohesion = 0)"
+        );
+        let mut tresca = base.clone();
+        tresca.set("friction_angle", 0.0);
+        tresca.set("cohesion", 10e3);
+        let t = from(&tresca).unwrap();
+        assert!(t.tension_cutoff == f64::INFINITY && !t.cutoff && !t.has_apex);
+        let mut with_cut = tresca.clone();
+        with_cut.set("tension_cutoff", 2e3);
+        let t = from(&with_cut).unwrap();
+        assert!(t.cutoff && t.sigma_t == 2e3);
+        let mut dilating = tresca.clone();
+        dilating.set("dilation_angle", 1.0);
+        assert!(from(&dilating).err().unwrap().starts_with("materials.sand.dilation_angle: must be"));
     }
 
     // ------------------------------------------------------------------ re-compaction
@@ -1586,5 +1659,202 @@ mod tests {
         // the opening is a scalar, see the module doc).
         drive(&m, &mut s, &mut state, [-1e-5, 0.0, 0.0, -1e-5, -1e-5], 40);
         assert_eq!(state[2], 0.0);
+    }
+
+    // ------------------------------------------------------------------ Tresca (φ = 0)
+
+    fn tresca(c: f64, st: f64) -> MohrCoulomb {
+        mc(0.0, 0.0, c, st)
+    }
+
+    /// Trial stresses σ_C + D Σ Δλ_i b_i from a point σ_C on each part of the Tresca prism (and
+    /// of its cut-off): the return names that part and recovers σ_C.
+    #[test]
+    fn tresca_each_return_region_is_reached_and_lands_on_the_surface() {
+        use ReturnRegion::*;
+        let f = flows(0.0);
+        let (c, st) = (20e3, 10e3);
+        let no_cut = tresca(c, f64::INFINITY);
+        let with_cut = tresca(c, st);
+        assert!(!no_cut.cutoff && no_cut.apex_and_cutoff() == (f64::INFINITY, f64::INFINITY));
+        assert!(with_cut.cutoff && with_cut.apex_and_cutoff().1 == st);
+        let b = 2.0 * c;
+        let s3l = st - b;
+        let l = 4e-4;
+        let cases: Vec<(&MohrCoulomb, [f64; 3], Vec<(f64, [f64; 3])>, ReturnRegion)> = vec![
+            (&no_cut, [-50e3, -70e3, -50e3 - b], vec![(l, f[0])], Plane),
+            (&no_cut, [-50e3, -50e3, -50e3 - b], vec![(l, f[0]), (0.5 * l, f[1])], EdgeCompression),
+            (&no_cut, [-50e3, -50e3 - b, -50e3 - b], vec![(l, f[0]), (0.3 * l, f[2])], EdgeExtension),
+            // Far in hydrostatic tension and compression: the prism is open both ways.
+            (&no_cut, [5e6, 5e6, 5e6 - b], vec![(2.0 * l, f[0]), (l, f[1])], EdgeCompression),
+            (&no_cut, [-5e6, -5e6 - b, -5e6 - b], vec![(l, f[0]), (0.1 * l, f[2])], EdgeExtension),
+            (&no_cut, [8e6, 8e6 - 0.5 * b, 8e6 - b], vec![(3.0 * l, f[0])], Plane),
+            (&with_cut, [-5e3, -20e3, -5e3 - b], vec![(l, f[0])], Plane),
+            (&with_cut, [st, 0.0, -20e3], vec![(l, f[3])], TensionPlane),
+            (&with_cut, [st, st, -20e3], vec![(l, f[3]), (0.2 * l, f[4])], TensionEdge),
+            (&with_cut, [st, st, st], vec![(l, f[3]), (0.5 * l, f[4]), (0.1 * l, f[5])], TensionCorner),
+            (&with_cut, [st, -10e3, s3l], vec![(l, f[0]), (l, f[3])], TensionShearEdge),
+            (
+                &with_cut,
+                [st, st, s3l],
+                vec![(l, f[0]), (0.5 * l, f[1]), (l, f[3]), (0.5 * l, f[4])],
+                TensionShearCornerCompression,
+            ),
+            (&with_cut, [st, s3l, s3l], vec![(l, f[0]), (0.5 * l, f[2]), (0.2 * l, f[3])], TensionShearCornerExtension),
+        ];
+        for (m, target, flow, region) in cases {
+            let trial = add_flow(target, &flow);
+            assert!(trial[0] >= trial[1] && trial[1] >= trial[2], "{region:?}: {trial:?}");
+            let (ret, got) = m.return_principal(&trial);
+            let sc = scale(&trial, m);
+            assert_eq!(got, region, "trial {trial:?} -> {ret:?}");
+            for i in 0..3 {
+                assert!((ret[i] - target[i]).abs() <= 1e-9 * sc, "{region:?}: {ret:?} vs {target:?}");
+            }
+            assert!(worst(m, &ret).abs() <= 1e-9 * sc, "{region:?}: not on the surface, {}", worst(m, &ret));
+            // ψ = 0: the shear returns keep the mean stress (isochoric plastic flow).
+            if matches!(region, Plane | EdgeCompression | EdgeExtension) {
+                let mean = |s: &[f64; 3]| s[0] + s[1] + s[2];
+                assert!((mean(&ret) - mean(&trial)).abs() <= 1e-9 * sc, "{region:?}: mean stress changed");
+            }
+        }
+    }
+
+    /// Random trials for Tresca: sorted, admissible, on the surface, associated flow rule; the
+    /// regions reached are exactly those the prism (and its cut-off) has: no apex.
+    #[test]
+    fn tresca_random_returns_are_admissible_and_obey_the_flow_rule() {
+        use ReturnRegion::*;
+        let mut rng = Lcg(4242);
+        for &(c, st) in &[(20e3, f64::INFINITY), (20e3, 10e3), (50e3, 0.0)] {
+            let m = tresca(c, st);
+            let mut seen = std::collections::BTreeSet::new();
+            for _ in 0..40000 {
+                let trial = random_sorted(&mut rng, -300e3, 150e3);
+                let (ret, region) = m.return_principal(&trial);
+                seen.insert(format!("{region:?}"));
+                let sc = scale(&trial, &m);
+                assert!(ret[0] >= ret[1] && ret[1] >= ret[2], "{trial:?} -> {ret:?} {region:?}");
+                let w = worst(&m, &ret);
+                if region == Elastic {
+                    assert!(w <= 1e-12 * sc && ret == trial);
+                    continue;
+                }
+                assert!(w.abs() <= 1e-9 * sc, "{trial:?} -> {ret:?} {region:?}: {w}");
+                assert!(flow_rule_holds(&trial, &ret, &active_flows(region, 0.0)), "c {c} st {st}: {trial:?} {region:?}");
+            }
+            let mut want: Vec<&str> = vec!["Elastic", "Plane", "EdgeCompression", "EdgeExtension"];
+            if st.is_finite() {
+                want.extend([
+                    "TensionPlane",
+                    "TensionEdge",
+                    "TensionCorner",
+                    "TensionShearEdge",
+                    "TensionShearCornerCompression",
+                    "TensionShearCornerExtension",
+                ]);
+            }
+            let want: std::collections::BTreeSet<String> = want.into_iter().map(String::from).collect();
+            assert_eq!(seen, want, "c {c} st {st}");
+        }
+    }
+
+    /// One step of `m` with the velocity gradient `l(x)`, the free rate x solved (secant) so that
+    /// stress component `comp` ends at `target`.
+    fn controlled_step(
+        m: &MohrCoulomb,
+        s: &mut Stress,
+        st: &mut [f64],
+        l: &dyn Fn(f64) -> [f64; 5],
+        comp: usize,
+        target: f64,
+        guess: f64,
+    ) {
+        let run = |x: f64| {
+            let (mut s2, mut st2) = (*s, [st[0], st[1]]);
+            m.update_stress(&mut s2, &mut st2, &kin(l(x), 1.0));
+            (s2, st2)
+        };
+        let (mut x0, mut x1) = (0.0, guess);
+        let mut g0 = run(x0).0[comp] - target;
+        let scale = target.abs() + m.cohesion;
+        for _ in 0..60 {
+            let g1 = run(x1).0[comp] - target;
+            if g1.abs() < 1e-12 * scale || g1 == g0 {
+                break;
+            }
+            let x2 = x1 - g1 * (x1 - x0) / (g1 - g0);
+            (x0, g0, x1) = (x1, g1, x2);
+        }
+        let (s2, st2) = run(x1);
+        *s = s2;
+        st[..2].copy_from_slice(&st2);
+        assert!((s[comp] - target).abs() < 1e-9 * scale, "control of component {comp}: {s:?}");
+    }
+
+    /// Closed-form Tresca strengths, whatever the mean stress p0 the test starts from (isotropic
+    /// −p0, constant lateral stress): uniaxial compression and tension (axisymmetric kinematics,
+    /// σ_rr = σ_θθ = −p0) fail at |σ_zz − σ_rr| = 2c; plane-strain compression (ε_zz = 0,
+    /// σ_xx = −p0) at σ_xx − σ_yy = 2c, with σ_zz staying between (the flow (1, 0, −1) has no
+    /// out-of-plane part: σ_zz = −p0 − 2cν at failure); simple shear (plane strain) at in-plane
+    /// radius √(((σ_xx − σ_yy)/2)² + σ_xy²) = c. Elastic up to exactly that load.
+    #[test]
+    fn tresca_strengths_are_closed_form() {
+        let c = 15e3;
+        let m = tresca(c, f64::INFINITY);
+        let de = 2e-5; // axial strain per step: E de = 1 kPa, so 2c is reached after 30 steps
+        for &p0 in &[0.0, 50e3, 400e3] {
+            for &(axisymmetric, sign) in &[(true, -1.0), (true, 1.0), (false, -1.0), (false, 1.0)] {
+                let mut s = [-p0, -p0, -p0, 0.0];
+                let mut st = [0.0, 0.0];
+                let mut peak: f64 = 0.0;
+                let ez = sign * de;
+                let l = |x: f64| if axisymmetric { [x, 0.0, 0.0, ez, x] } else { [x, 0.0, 0.0, ez, 0.0] };
+                let mut first_plastic = None;
+                for step in 0..200 {
+                    controlled_step(&m, &mut s, &mut st, &l, 0, -p0, -NU * ez);
+                    let q = sign * (s[1] - s[0]);
+                    peak = peak.max(q);
+                    assert!(q <= 2.0 * c * (1.0 + 1e-9), "q = {q} > 2c");
+                    if first_plastic.is_none() && st[0] > 0.0 {
+                        first_plastic = Some(step);
+                    }
+                }
+                let label = format!("axisymmetric {axisymmetric}, sign {sign}, p0 {p0}");
+                let y = first_plastic.expect("never yielded") as f64;
+                // Uniaxial: q grows by E de per step; plane strain: by E de/(1 − ν²).
+                let rate = if axisymmetric { E * de } else { E * de / (1.0 - NU * NU) };
+                assert!((y - 2.0 * c / rate).abs() <= 1.0, "{label}: yielded at step {y}");
+                let q = sign * (s[1] - s[0]);
+                assert!((q - 2.0 * c).abs() <= 1e-9 * (p0 + c), "{label}: q = {q}");
+                assert!((peak - 2.0 * c).abs() <= 1e-9 * (p0 + c), "{label}: peak {peak}");
+                assert!(st[1].abs() <= 1e-12 * st[0], "{label}: plastic volume change {st:?}");
+                if axisymmetric {
+                    assert!((s[2] - s[0]).abs() <= 1e-9 * (p0 + c), "{label}: hoop {s:?}");
+                } else {
+                    let zz = -p0 + sign * 2.0 * c * NU;
+                    assert!((s[2] - zz).abs() <= 1e-6 * (p0 + c), "{label}: σ_zz = {} vs {zz}", s[2]);
+                }
+            }
+            // Simple shear, plane strain: L12 = γ̇.
+            let mut s = [-p0, -p0, -p0, 0.0];
+            let mut st = [0.0, 0.0];
+            let g = E / (2.0 * (1.0 + NU));
+            let gamma = 2e-5;
+            let mut first_plastic = None;
+            for step in 0..200 {
+                m.update_stress(&mut s, &mut st, &kin([0.0, gamma, 0.0, 0.0, 0.0], 1.0));
+                let radius = (0.25 * (s[0] - s[1]).powi(2) + s[3] * s[3]).sqrt();
+                assert!(radius <= c * (1.0 + 1e-9));
+                if first_plastic.is_none() && st[0] > 0.0 {
+                    first_plastic = Some(step);
+                }
+            }
+            let y = first_plastic.expect("never yielded") as f64;
+            assert!((y - c / (g * gamma)).abs() <= 1.5, "simple shear yielded at step {y}");
+            let radius = (0.25 * (s[0] - s[1]).powi(2) + s[3] * s[3]).sqrt();
+            assert!((radius - c).abs() <= 1e-9 * (p0 + c), "simple shear radius {radius}");
+            assert!((s[0] + s[1] + s[2] + 3.0 * p0).abs() <= 1e-9 * (p0 + c), "mean stress changed {s:?}");
+        }
     }
 }

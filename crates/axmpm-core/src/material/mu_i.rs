@@ -103,6 +103,9 @@ impl InertialMohrCoulomb {
             return Ok(None);
         };
         let phi = base.friction_angle;
+        if phi == 0.0 {
+            return Err(p.error("inertial_friction_angle", "needs a static friction_angle > 0 (not Tresca, friction_angle = 0)"));
+        }
         if !(phi2 >= phi && phi2 < 90.0) {
             return Err(p.error(
                 "inertial_friction_angle",

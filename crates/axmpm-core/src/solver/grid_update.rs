@@ -41,13 +41,21 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
                 }
                 *v = v0;
                 *v_new = [v0[0] + dt * a[0], v0[1] + dt * a[1]];
+            } else if m > 0.0 {
+                // A node lighter than the threshold (a GIMP/CPDI domain barely reaching it):
+                // no force update (f/m would be unbounded), but the velocity of the momentum it
+                // carries, so that it stays consistent with its particles in every stencil
+                // (a rigid translation stays stress-free to round-off: issue #13).
+                *v = [p[0] / m, p[1] / m];
+                *v_new = *v;
             } else {
                 *v = [0.0; 2];
                 *v_new = [0.0; 2];
             }
         });
     // Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
-    // field), then on v⁺: that correction is the physical one, recorded as the reaction.
+    // field; rigid bodies excepted, see `constraint/rigid_body.rs`), then on v⁺: that
+    // correction is the physical one, recorded as the reaction.
     let context = NodalContext {
         grid: &state.grid,
         mass: &fields.mass,
@@ -55,7 +63,7 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
         dt,
         axisymmetric: params.axisymmetric,
     };
-    state.constraints.apply(&context, &mut fields.velocity, false);
+    state.constraints.apply_start_of_step(&context, &mut fields.velocity);
     state.constraints.apply(&context, &mut fields.velocity_new, true);
 }
 
@@ -72,7 +80,6 @@ fn sign(x: f64) -> f64 {
 
 /// MUSL: nodal velocities from the re-mapped momentum, constrained; stored in `fields.velocity`.
 pub(super) fn remap_velocity(state: &mut State, dt: f64) {
-    let threshold = state.parameters.mass_threshold;
     let fields = &mut state.fields;
     let region = state.scratch.grid_region;
     let nx = state.grid.nodes[0];
@@ -89,7 +96,8 @@ pub(super) fn remap_velocity(state: &mut State, dt: f64) {
         .for_each(|((v, m), p)| {
             let c = columns.clone();
             for ((v, &m), p) in v[c.clone()].iter_mut().zip(&m[c.clone()]).zip(&p[c]) {
-                *v = if m > threshold { [p[0] / m, p[1] / m] } else { [0.0; 2] };
+                // Every node with mass, light ones included (see `update_grid`).
+                *v = if m > 0.0 { [p[0] / m, p[1] / m] } else { [0.0; 2] };
             }
         });
     let context = NodalContext {

@@ -56,7 +56,8 @@ pub struct StepParameters {
     pub flip_fraction: f64,
     pub damping: f64,
     pub scheme: UpdateScheme,
-    /// Nodes lighter than this carry no velocity (avoids dividing by vanishing GIMP masses).
+    /// Nodes lighter than this get no force update (avoids dividing by vanishing GIMP masses);
+    /// they keep the velocity p/m of their momentum.
     pub mass_threshold: f64,
     pub volumetric_averaging: VolumetricAveraging,
     /// The formulation is axisymmetric (for the constraints; the passes know it from `F`).

@@ -1,12 +1,13 @@
 """``model = "mohr_coulomb"``: elastic–perfectly plastic Mohr–Coulomb, non-associated, with
-optional tension cut-off, re-compaction and μ(I) friction (docs/physics.md §5)."""
+optional tension cut-off, re-compaction and μ(I) friction (docs/physics.md §5); with
+``friction_angle = 0`` and ``cohesion > 0`` it is Tresca (undrained clay, c = s_u; §8)."""
 
 from __future__ import annotations
 
 import math
 from typing import Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from ..fields import NonNegative, Positive, bounded, fmt
 from . import ElasticMaterial, register_material
@@ -18,15 +19,18 @@ RECOMPACTION_DEFAULT = False
 
 @register_material("mohr_coulomb")
 class MohrCoulomb(ElasticMaterial):
-    """Elastic–perfectly plastic Mohr–Coulomb, non-associated (dilation angle ψ ≤ φ)."""
+    """Elastic–perfectly plastic Mohr–Coulomb, non-associated (dilation angle ψ ≤ φ); Tresca
+    for friction_angle = 0 (then cohesion > 0, dilation_angle 0, no tension cut-off unless given)."""
 
     model: Literal["mohr_coulomb"]
-    friction_angle: bounded(0.0, 90.0, lo_open=True, hi_open=True) = Field(  # type: ignore[valid-type]
-        description="degrees"
+    friction_angle: bounded(0.0, 90.0, hi_open=True) = Field(  # type: ignore[valid-type]
+        description="degrees; 0 = Tresca (undrained, total stress: needs cohesion > 0)"
     )
     dilation_angle: NonNegative = Field(0.0, description="degrees, <= friction_angle")
-    cohesion: NonNegative = Field(0.0, description="Pa")
-    tension_cutoff: NonNegative = Field(0.0, description="Pa")
+    cohesion: NonNegative = Field(0.0, description="Pa (s_u for Tresca)")
+    tension_cutoff: NonNegative | None = Field(  # type: ignore[valid-type]
+        None, description="Pa; absent: 0 (no tension) for friction_angle > 0, no cut-off for Tresca "
+        "(friction_angle = 0)")
     recompaction: bool = Field(
         RECOMPACTION_DEFAULT,
         strict=True,
@@ -53,6 +57,13 @@ class MohrCoulomb(ElasticMaterial):
         "inertial_friction_angle"
     )
 
+    @model_validator(mode="after")
+    def _resolve_tension_cutoff(self) -> "MohrCoulomb":
+        """The resolved default: 0 for φ > 0; none (absent) for Tresca."""
+        if self.tension_cutoff is None and self.friction_angle > 0.0:
+            self.tension_cutoff = 0.0
+        return self
+
     def default_k0(self) -> float:
         """Jaky's 1 − sin φ."""
         return 1.0 - math.sin(math.radians(self.friction_angle))
@@ -60,6 +71,12 @@ class MohrCoulomb(ElasticMaterial):
     def cross_errors(self, prefix: str) -> list[tuple[str, str]]:
         """ψ ≤ φ; the μ(I) keys: φ₂ ≥ φ, grain size and density given, grain density ≥ bulk."""
         errors: list[tuple[str, str]] = []
+        if self.friction_angle == 0.0 and not self.cohesion > 0.0:
+            errors.append((f"{prefix}friction_angle",
+                           f"= 0 (Tresca) needs cohesion > 0 (got cohesion = {fmt(self.cohesion)})"))
+        if self.friction_angle == 0.0 and self.inertial_friction_angle is not None:
+            errors.append((f"{prefix}inertial_friction_angle",
+                           "needs a static friction_angle > 0 (not Tresca, friction_angle = 0)"))
         if self.dilation_angle > self.friction_angle:
             errors.append((f"{prefix}dilation_angle",
                            f"must be <= friction_angle = {fmt(self.friction_angle)} (got {fmt(self.dilation_angle)})"))

@@ -2,13 +2,16 @@
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from pydantic import Field
 
 from ..bodies import GridFrame, Region
 from ..fields import Vec2, fmt, on_grid_line
 from . import register_region
+
+if TYPE_CHECKING:
+    import numpy as np
 
 
 @register_region("rectangle")
@@ -43,6 +46,16 @@ class Rectangle(Region):
                                    f"must lie on a grid line (multiples of {fmt(grid.h)} m from the "
                                    f"origin {fmt(lo)}) (got {fmt(value)})"))
         return errors
+
+    def lattice_points(self, origin: Vec2, cell_size: float) -> "np.ndarray":
+        """The body's particle positions (N × 2): every lattice point of its cells."""
+        from .polygon import lattice_centres
+
+        if self.bounding_box() is None:
+            import numpy as np
+
+            return np.zeros((0, 2))
+        return lattice_centres(self.min, self.max, origin, cell_size, self.particles_per_cell)
 
     def particle_count(self, cell_size: float) -> int:
         nx = int(round((self.max[0] - self.min[0]) / cell_size))

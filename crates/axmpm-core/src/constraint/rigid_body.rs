@@ -1,0 +1,716 @@
+//! Rigid bodies with a prescribed motion in frictional contact with the material (issue #13;
+//! `docs/physics.md` §8).
+//!
+//! # Scenario
+//!
+//! ```toml
+//! [[rigid_bodies]]
+//! name = "footing"
+//! shape = "rectangle"            # or "polygon" with vertices = [[x, y], ...]
+//! min = [0.0, 3.0]
+//! max = [0.5, 3.2]
+//! velocity = [0.0, -0.01]        # m/s, or a table: motion = [[t, vx, vy], ...]
+//! friction = 0.0                 # Coulomb coefficient ≥ 0, or "rough" (no slip)
+//! ```
+//!
+//! `motion` is a velocity table linear between its rows (times strictly increasing, from
+//! t ≥ 0), constant before the first and after the last row. The body's displacement is the exact
+//! integral D(t) = ∫₀ᵗ v dt of that velocity ([`Motion::displacement`]): a pure function of time,
+//! so a run resumed from a checkpoint moves the body bit for bit as an uninterrupted one. In
+//! axisymmetry only axial motion is allowed (every vx = 0) and the region must lie at r ≥ 0.
+//!
+//! # Contact (Bardenhagen, Brackbill & Sulsky 2000; Bardenhagen et al. 2001)
+//!
+//! Over a step t → t + Δt the body moves with its mean velocity w = (D(t + Δt) − D(t))/Δt, so
+//! that the nodes carrying it move it by exactly D(t + Δt) − D(t). The **covered nodes** are the
+//! grid nodes carrying material mass that lie inside the body's region or on its boundary at the
+//! end of the step (signed distance d ≤ 10⁻⁹ h), or outside it by less than the **reach** l_p =
+//! h/(2n), the half-width of the material's particles (n per cell and direction; the largest
+//! half-width when bodies differ). These are the nodes whose velocity a rigid body would own in
+//! a two-field contact scheme (Bardenhagen et al. 2000): there the rigid body's nodal velocity is
+//! its prescribed one, and the material's is corrected towards it. Why the reach: the material's
+//! surface is the edge of its particles' domains, so the particle centres next to the body lie
+//! l_p from it; when the body's surface is less than l_p above a row of nodes, those particles
+//! have crossed below that row and no longer reach the nodes inside the body (linear shape
+//! functions), so without the reach the body would lose its grip on them once per cell of travel
+//! (a footing's load dropped by 30 % there and particles entered it). With it, contact starts at
+//! most l_p early. At each covered node with material velocity v, relative velocity v_rel = v − w
+//! and body outward normal n:
+//!
+//! * v_rel·n ≥ 0 (separating or sliding): untouched — separation is allowed;
+//! * v_rel·n < 0 (approaching): the normal part is removed; the tangential part
+//!   t = v_rel − (v_rel·n) n is reduced to max(0, |t| − μ |v_rel·n|) in its own direction
+//!   (Coulomb: the tangential impulse is at most μ times the normal one, and never reverses the
+//!   slip), or to 0 for `friction = "rough"` (no slip). v ← w + t'.
+//!
+//! The normal is the body's geometry (the outward normal of the nearest face of the body's
+//! polygon), not the gradient of the material's mass: the rigid body's surface is known exactly,
+//! whereas the mass gradient of the material is noisy and points the wrong way at corners and
+//! near free surfaces (the known issue of Bardenhagen's normals that Nairn's later contact work
+//! addresses with other normals). **Corners**: a node inside the body that is also within
+//! h − l_p of a second face (e.g. on the side of a footing, less than h − l_p above its base)
+//! is corrected for the nearest face and then for the other one, each as a unilateral frictional
+//! contact, so the material there may neither enter through the base nor through the side — the
+//! rigid-footing corner of a finite-element mesh, where the edge node carries the footing's
+//! displacement. The distance h − l_p hands the base over without a gap: once the base is more
+//! than h − l_p below such a node, the next row of nodes is within the reach l_p of the base
+//! (below). Without it a footing's load dropped by a third every cell of settlement at B/h = 10
+//! (the edge node, on the side face, went free while the base was between two rows). A larger
+//! distance (h) made a plate drag a block's top edge along, a column away from its side face.
+//! A vertex bisector would instead push material sideways
+//! out of the corner. **Symmetry**: a body resting on the grid's left edge (the axis of an
+//! axisymmetric run or the symmetry plane of a half model) is mirrored about it for the contact,
+//! so its own edge on that line is not a face: a node on the axis inside a pile sees the pile's
+//! tip or top, not the axis.
+//!
+//! The other known issue, early contact a cell away (a two-field scheme sees contact as soon as
+//! both bodies have mass at a node, up to one cell before the surfaces touch), is bounded here by
+//! the reach: contact starts at most l_p = h/(2n) before the surfaces touch (a quarter cell with
+//! 2 × 2 particles per cell). A larger reach (h/2, h) raised a footing's bearing load by 0.3 % and
+//! 3 % (strip) and 5 % and 10 % (circle) at B/h = 20. The contact surface is still resolved to a
+//! cell: the load transmitted varies with the position of the surface between two rows of nodes.
+//! At a corner (outside, within the reach) the normal is the direction from the vertex.
+//!
+//! # Reaction
+//!
+//! The force the material exerts on the body is the momentum the correction removes from the
+//! material: Σ_covered m_i (v_before − v_after) per step (the MUSL re-map correction is not
+//! counted: it only re-imposes the same condition on re-mapped velocities), accumulated and
+//! handed out by [`Constraint::take_impulse`] (N·s per metre in plane strain, per radian in
+//! axisymmetry). The impulse is also split into the part taken by nodes whose normal faces down
+//! (n_y < −1/√2: the **base** of a pile or footing) and the rest (the **shaft**: sides, top).
+
+use super::{Constraint, NodalContext};
+use crate::geometry::{self, Polygon, Region};
+use serde_json::{Map, Value};
+
+/// Contact condition between a rigid body and the material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Friction {
+    /// Coulomb friction coefficient μ ≥ 0 (0: smooth).
+    Coulomb(f64),
+    /// No slip while in contact.
+    Rough,
+}
+
+/// Material velocity `v` at a node in contact with a body moving at `w` whose outward unit normal
+/// there is `n` (module doc, "Contact").
+#[inline]
+pub fn contact_velocity(v: [f64; 2], w: [f64; 2], n: [f64; 2], friction: Friction) -> [f64; 2] {
+    let rel = [v[0] - w[0], v[1] - w[1]];
+    let vn = rel[0] * n[0] + rel[1] * n[1];
+    if !(vn < 0.0) {
+        return v;
+    }
+    let t = [rel[0] - vn * n[0], rel[1] - vn * n[1]];
+    let t_new = match friction {
+        Friction::Rough => [0.0, 0.0],
+        Friction::Coulomb(mu) => {
+            let magnitude = t[0].hypot(t[1]);
+            let reduced = magnitude + mu * vn; // vn < 0: |t| − μ|v_n|
+            if reduced > 0.0 && magnitude > 0.0 {
+                let s = reduced / magnitude;
+                [s * t[0], s * t[1]]
+            } else {
+                [0.0, 0.0]
+            }
+        }
+    };
+    [w[0] + t_new[0], w[1] + t_new[1]]
+}
+
+/// Prescribed motion: velocity linear between the rows of a table, constant outside it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Motion {
+    times: Vec<f64>,
+    velocities: Vec<[f64; 2]>,
+    /// D(t_k), the displacement at each row's time.
+    displacements: Vec<[f64; 2]>,
+}
+
+impl Motion {
+    /// A constant velocity.
+    pub fn constant(velocity: [f64; 2]) -> Self {
+        Self { times: vec![0.0], velocities: vec![velocity], displacements: vec![[0.0; 2]] }
+    }
+
+    /// Rows (t, vx, vy), times ≥ 0 and strictly increasing (checked by the caller's parser).
+    pub fn table(rows: &[[f64; 3]]) -> Self {
+        let times: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+        let velocities: Vec<[f64; 2]> = rows.iter().map(|r| [r[1], r[2]]).collect();
+        let mut displacements = Vec::with_capacity(rows.len());
+        // Constant v_0 from t = 0 to t_0, then trapezoids.
+        let mut d = [velocities[0][0] * times[0], velocities[0][1] * times[0]];
+        displacements.push(d);
+        for k in 1..rows.len() {
+            let dt = times[k] - times[k - 1];
+            for c in 0..2 {
+                d[c] += 0.5 * (velocities[k - 1][c] + velocities[k][c]) * dt;
+            }
+            displacements.push(d);
+        }
+        Self { times, velocities, displacements }
+    }
+
+    /// Index of the last row with t_k ≤ t, or `None` before the first row.
+    #[inline]
+    fn segment(&self, t: f64) -> Option<usize> {
+        let k = self.times.partition_point(|&tk| tk <= t);
+        k.checked_sub(1)
+    }
+
+    /// Prescribed velocity at time t.
+    pub fn velocity(&self, t: f64) -> [f64; 2] {
+        match self.segment(t) {
+            None => self.velocities[0],
+            Some(k) if k + 1 == self.times.len() => self.velocities[k],
+            Some(k) => {
+                let s = (t - self.times[k]) / (self.times[k + 1] - self.times[k]);
+                let (a, b) = (self.velocities[k], self.velocities[k + 1]);
+                [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])]
+            }
+        }
+    }
+
+    /// Displacement D(t) = ∫₀ᵗ v dt, exact for the piecewise-linear velocity.
+    pub fn displacement(&self, t: f64) -> [f64; 2] {
+        match self.segment(t) {
+            None => [self.velocities[0][0] * t, self.velocities[0][1] * t],
+            Some(k) => {
+                let (d, v, tau) = (self.displacements[k], self.velocities[k], t - self.times[k]);
+                if k + 1 == self.times.len() {
+                    [d[0] + v[0] * tau, d[1] + v[1] * tau]
+                } else {
+                    let span = self.times[k + 1] - self.times[k];
+                    let b = self.velocities[k + 1];
+                    let q = 0.5 * tau * tau / span;
+                    [d[0] + v[0] * tau + (b[0] - v[0]) * q, d[1] + v[1] * tau + (b[1] - v[1]) * q]
+                }
+            }
+        }
+    }
+
+    /// Mean velocity over [t, t + dt]: (D(t + dt) − D(t))/dt.
+    pub fn mean_velocity(&self, t: f64, dt: f64) -> [f64; 2] {
+        let (a, b) = (self.displacement(t), self.displacement(t + dt));
+        [(b[0] - a[0]) / dt, (b[1] - a[1]) / dt]
+    }
+
+    /// The velocities of the table (for the axisymmetric check).
+    pub fn velocities(&self) -> &[[f64; 2]] {
+        &self.velocities
+    }
+}
+
+/// A rigid body: a region moved by a prescribed motion, in contact with the material.
+#[derive(Debug)]
+pub struct RigidBody {
+    name: String,
+    /// The region at t = 0; at time t it is translated by `motion.displacement(t)`.
+    region: Box<dyn Region>,
+    /// The same region as a polygon for the contact, united with its mirror image when it
+    /// rests against the grid's left edge (symmetry plane or axis; module doc).
+    contact: Polygon,
+    motion: Motion,
+    friction: Friction,
+    /// Distance outside the body within which a node still counts as covered (module doc).
+    reach: f64,
+    /// Impulse since the last `take_impulse`.
+    impulse: [f64; 2],
+    /// Impulse since the last `take_impulse_parts`: the base part and the rest (module doc).
+    impulse_base: [f64; 2],
+    impulse_shaft: [f64; 2],
+}
+
+/// Whether a normal faces down (the base of a pile or footing): n_y < −1/√2.
+#[inline]
+fn faces_down(n: [f64; 2]) -> bool {
+    n[1] < -std::f64::consts::FRAC_1_SQRT_2
+}
+
+impl RigidBody {
+    /// `contact`: the region as a polygon (mirrored about a symmetry line it rests on).
+    pub fn new(
+        name: impl Into<String>,
+        region: Box<dyn Region>,
+        contact: Polygon,
+        motion: Motion,
+        friction: Friction,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            region,
+            contact,
+            motion,
+            friction,
+            reach: 0.0,
+            impulse: [0.0; 2],
+            impulse_base: [0.0; 2],
+            impulse_shaft: [0.0; 2],
+        }
+    }
+
+    /// Sets the reach (m): nodes outside the body closer than this count as covered. The
+    /// solver uses the material particles' half-width h/(2n) (module doc).
+    pub fn with_reach(mut self, reach: f64) -> Self {
+        self.reach = reach;
+        self
+    }
+
+    pub fn motion(&self) -> &Motion {
+        &self.motion
+    }
+
+    pub fn friction(&self) -> Friction {
+        self.friction
+    }
+
+    /// The region at t = 0.
+    pub fn region(&self) -> &dyn Region {
+        self.region.as_ref()
+    }
+
+    /// Displacement of the body at time t, m.
+    pub fn displacement(&self, t: f64) -> [f64; 2] {
+        self.motion.displacement(t)
+    }
+
+    /// Whether a point lies inside the body (closed) at time t.
+    pub fn contains(&self, x: [f64; 2], t: f64) -> bool {
+        let d = self.motion.displacement(t);
+        self.region.contains([x[0] - d[0], x[1] - d[1]])
+    }
+
+    /// Impulse since the last call of this function split into (base, shaft) (module doc), reset
+    /// by the call (independently of [`Constraint::take_impulse`], which returns their sum over
+    /// its own interval).
+    pub fn take_impulse_parts(&mut self) -> ([f64; 2], [f64; 2]) {
+        let parts = (self.impulse_base, self.impulse_shaft);
+        self.impulse_base = [0.0; 2];
+        self.impulse_shaft = [0.0; 2];
+        parts
+    }
+}
+
+impl Constraint for RigidBody {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
+        let grid = context.grid;
+        let h = grid.cell_size;
+        // Geometry at the end of the step, velocity the mean over the step (module doc).
+        let offset = self.motion.displacement(context.time + context.dt);
+        let w = self.motion.mean_velocity(context.time, context.dt);
+        let (lo, hi) = self.region.bounding_box();
+        let tolerance = 1e-9 * h;
+        let reach = self.reach + tolerance;
+        // A second face counts within h − l_p of a node (module doc, "Corners").
+        let corner = h - self.reach;
+        let range = |d: usize| {
+            let first = ((lo[d] + offset[d] - reach - grid.origin[d]) / h).ceil().max(0.0);
+            let last = ((hi[d] + offset[d] + reach - grid.origin[d]) / h).floor();
+            let last = last.min((grid.nodes[d] - 1) as f64);
+            if last < first {
+                1..0 // empty
+            } else {
+                first as usize..last as usize + 1
+            }
+        };
+        let columns = range(0);
+        for j in range(1) {
+            for i in columns.clone() {
+                let node = grid.node_index(i, j);
+                let m = context.mass[node];
+                if !(m > 0.0) {
+                    continue;
+                }
+                let x = grid.node_position(node);
+                let local = [x[0] - offset[0], x[1] - offset[1]];
+                let (distance, mut normal, mut second) = self.contact.nearest_faces(local, corner);
+                if distance > reach {
+                    continue;
+                }
+                if distance > tolerance {
+                    // Outside, within reach: one normal, from the nearest boundary point.
+                    normal = self.contact.signed_distance(local).1;
+                    second = None;
+                }
+                // Each face in turn (the nearest, then at a corner the other); the momentum each
+                // removes goes to the base or the shaft part by that face's normal.
+                let before = velocity[node];
+                let mut after = contact_velocity(before, w, normal, self.friction);
+                let mut steps = [(normal, before, after), (normal, after, after)];
+                if let Some(n2) = second {
+                    let next = contact_velocity(after, w, n2, self.friction);
+                    steps[1] = (n2, after, next);
+                    after = next;
+                }
+                if context.axisymmetric && i == 0 && grid.origin[0] == 0.0 {
+                    // The axis stays a roller: its radial correction is the axis's, not the body's.
+                    after[0] = before[0];
+                    steps[0].2[0] = before[0];
+                    steps[1].1[0] = before[0];
+                    steps[1].2[0] = before[0];
+                }
+                velocity[node] = after;
+                if record {
+                    self.impulse[0] += m * (before[0] - after[0]);
+                    self.impulse[1] += m * (before[1] - after[1]);
+                    for (n, from, to) in steps {
+                        let part = if faces_down(n) { &mut self.impulse_base } else { &mut self.impulse_shaft };
+                        part[0] += m * (from[0] - to[0]);
+                        part[1] += m * (from[1] - to[1]);
+                    }
+                }
+            }
+        }
+    }
+
+    fn take_impulse(&mut self) -> [f64; 2] {
+        std::mem::take(&mut self.impulse)
+    }
+
+    /// The contact acts on the velocities of the momentum update (and the MUSL re-map), not on
+    /// the start-of-step velocities: FLIP then carries the whole change v⁺ − v = Δt f/m plus the
+    /// contact correction to the particles, so the material's momentum changes by exactly the
+    /// impulse the body takes (module doc, "Reaction").
+    fn applies_to_start_of_step(&self) -> bool {
+        false
+    }
+
+    fn as_rigid_body(&self) -> Option<&RigidBody> {
+        Some(self)
+    }
+
+    fn as_rigid_body_mut(&mut self) -> Option<&mut RigidBody> {
+        Some(self)
+    }
+}
+
+/// Reads a number.
+fn number(key: &str, v: &Value) -> Result<f64, String> {
+    v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| format!("{key}: must be a finite number (got {v})"))
+}
+
+/// Builds the rigid bodies of a scenario from its `rigid_bodies` tables.
+/// `grid_lower`, `grid_upper`: the grid's corners (a body must lie inside the grid).
+pub fn build_all(
+    tables: &[Map<String, Value>],
+    grid_lower: [f64; 2],
+    grid_upper: [f64; 2],
+    axisymmetric: bool,
+) -> Result<Vec<RigidBody>, String> {
+    let mut bodies: Vec<RigidBody> = Vec::with_capacity(tables.len());
+    for (i, table) in tables.iter().enumerate() {
+        let context = format!("rigid_bodies[{i}]");
+        let body = build_one(&context, table, grid_lower, grid_upper, axisymmetric)?;
+        if bodies.iter().any(|b| b.name == body.name) {
+            return Err(format!("{context}.name: '{}' is used by another rigid body", body.name));
+        }
+        bodies.push(body);
+    }
+    Ok(bodies)
+}
+
+fn build_one(
+    context: &str,
+    table: &Map<String, Value>,
+    grid_lower: [f64; 2],
+    grid_upper: [f64; 2],
+    axisymmetric: bool,
+) -> Result<RigidBody, String> {
+    // Keys given as null (the front end writes every key of its schema) count as absent.
+    let table: Map<String, Value> = table.iter().filter(|(_, v)| !v.is_null()).map(|(k, v)| (k.clone(), v.clone())).collect();
+    let table = &table;
+    let name = match table.get("name") {
+        Some(Value::String(s)) if !s.is_empty() && !s.contains(['.', ',']) && !s.contains(char::is_whitespace) => {
+            s.clone()
+        }
+        Some(v) => {
+            return Err(format!(
+                "{context}.name: must be a non-empty string without dots, commas or spaces (it names output columns; got {v})"
+            ))
+        }
+        None => return Err(format!("{context}.name: is required")),
+    };
+    let region = geometry::build(context, table)?;
+    let (lo, hi) = region.bounding_box();
+    let polygon = match table.get("shape").and_then(Value::as_str) {
+        Some("polygon") => geometry::polygon::from_table(context, table)?,
+        Some("rectangle") => Polygon::new(vec![lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]])
+            .map_err(|e| format!("{context}: {e}"))?,
+        other => return Err(format!("{context}.shape: a rigid body is a rectangle or a polygon (got {other:?})")),
+    };
+    let contact = polygon.mirrored_about(grid_lower[0]).unwrap_or(polygon);
+    let span = (grid_upper[0] - grid_lower[0]).max(grid_upper[1] - grid_lower[1]);
+    let tol = 1e-9 * span;
+    if lo[0] < grid_lower[0] - tol || lo[1] < grid_lower[1] - tol || hi[0] > grid_upper[0] + tol || hi[1] > grid_upper[1] + tol
+    {
+        return Err(format!(
+            "{context}: the rigid body ({lo:?} .. {hi:?}) must lie inside the grid ({grid_lower:?} .. {grid_upper:?})"
+        ));
+    }
+    let motion = match (table.get("velocity"), table.get("motion")) {
+        (Some(_), Some(_)) => return Err(format!("{context}: give either velocity or motion, not both")),
+        (None, None) => return Err(format!("{context}.velocity: is required (or a motion table)")),
+        (Some(v), None) => {
+            let key = format!("{context}.velocity");
+            let pair = v.as_array().filter(|a| a.len() == 2).ok_or_else(|| format!("{key}: must be [vx, vy] (got {v})"))?;
+            let velocity = [number(&format!("{key}[0]"), &pair[0])?, number(&format!("{key}[1]"), &pair[1])?];
+            if axisymmetric && velocity[0] != 0.0 {
+                return Err(format!(
+                    "{key}[0]: must be 0 in axisymmetric runs (only axial motion of a body of revolution; got {})",
+                    velocity[0]
+                ));
+            }
+            Motion::constant(velocity)
+        }
+        (None, Some(m)) => {
+            let key = format!("{context}.motion");
+            let rows = m.as_array().filter(|a| !a.is_empty()).ok_or_else(|| {
+                format!("{key}: must be a non-empty list of rows [t, vx, vy] (got {m})")
+            })?;
+            let mut table_rows: Vec<[f64; 3]> = Vec::with_capacity(rows.len());
+            for (k, row) in rows.iter().enumerate() {
+                let rk = format!("{key}[{k}]");
+                let r = row.as_array().filter(|a| a.len() == 3).ok_or_else(|| format!("{rk}: must be [t, vx, vy] (got {row})"))?;
+                let values = [number(&format!("{rk}[0]"), &r[0])?, number(&format!("{rk}[1]"), &r[1])?, number(&format!("{rk}[2]"), &r[2])?];
+                if k == 0 && values[0] < 0.0 {
+                    return Err(format!("{rk}[0]: the first time must be >= 0 (got {})", values[0]));
+                }
+                if let Some(prev) = table_rows.last() {
+                    if !(values[0] > prev[0]) {
+                        return Err(format!(
+                            "{rk}[0]: times must increase strictly (got {} after {})",
+                            values[0], prev[0]
+                        ));
+                    }
+                }
+                if axisymmetric && values[1] != 0.0 {
+                    return Err(format!(
+                        "{rk}[1]: vx must be 0 in axisymmetric runs (only axial motion of a body of revolution; got {})",
+                        values[1]
+                    ));
+                }
+                table_rows.push(values);
+            }
+            Motion::table(&table_rows)
+        }
+    };
+    let friction = match table.get("friction") {
+        None => Friction::Coulomb(0.0),
+        Some(Value::String(s)) if s == "rough" => Friction::Rough,
+        Some(v) => match v.as_f64() {
+            Some(mu) if mu >= 0.0 && mu.is_finite() => Friction::Coulomb(mu),
+            _ => return Err(format!("{context}.friction: must be a number >= 0 or \"rough\" (got {v})")),
+        },
+    };
+    if axisymmetric && lo[0] < -tol {
+        return Err(format!("{context}: an axisymmetric rigid body must lie at r >= 0 (its region reaches r = {})", lo[0]));
+    }
+    Ok(RigidBody::new(name, region, contact, motion, friction))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::GridGeometry;
+    use serde_json::json;
+
+    const SMOOTH: Friction = Friction::Coulomb(0.0);
+
+    #[test]
+    fn contact_law_by_hand() {
+        let down = [0.0, -1.0]; // base of a body: outward normal −y
+        let w = [0.0, -0.5]; // body moving down at 0.5 m/s
+        // Material at rest below the base: approaching at 0.5; smooth keeps the tangential part.
+        assert_eq!(contact_velocity([0.3, 0.0], w, down, SMOOTH), [0.3, -0.5]);
+        // Coulomb μ = 0.4: tangential 0.3 reduced by 0.4 × 0.5 = 0.2 → 0.1.
+        let v = contact_velocity([0.3, 0.0], w, down, Friction::Coulomb(0.4));
+        assert!((v[0] - 0.1).abs() < 1e-15 && v[1] == -0.5, "{v:?}");
+        // μ large enough: sticks, never reverses.
+        assert_eq!(contact_velocity([0.3, 0.0], w, down, Friction::Coulomb(1.0)), [0.0, -0.5]);
+        assert_eq!(contact_velocity([0.3, 0.0], w, down, Friction::Rough), [0.0, -0.5]);
+        // Separating (material moving down faster than the body): untouched, whatever the friction.
+        assert_eq!(contact_velocity([0.3, -0.7], w, down, Friction::Rough), [0.3, -0.7]);
+        // Exactly matched normal velocity (sliding along): untouched.
+        assert_eq!(contact_velocity([0.3, -0.5], w, down, Friction::Rough), [0.3, -0.5]);
+        // Oblique normal: the result never moves into the body, and the removed part is along n.
+        let s = 0.5f64.sqrt();
+        let n = [s, -s];
+        let v = contact_velocity([-1.0, 0.2], [0.0, 0.0], n, SMOOTH);
+        assert!((v[0] * n[0] + v[1] * n[1]).abs() < 1e-15);
+        let d = [v[0] + 1.0, v[1] - 0.2];
+        assert!((d[0] * n[1] - d[1] * n[0]).abs() < 1e-15, "correction not along n");
+    }
+
+    #[test]
+    fn motion_table_velocity_and_exact_displacement() {
+        let m = Motion::table(&[[0.5, 0.0, 0.0], [1.5, 0.0, -2.0], [2.0, 1.0, -2.0]]);
+        assert_eq!(m.velocity(0.2), [0.0, 0.0]);
+        assert_eq!(m.velocity(1.0), [0.0, -1.0]);
+        assert_eq!(m.velocity(1.75), [0.5, -2.0]);
+        assert_eq!(m.velocity(9.0), [1.0, -2.0]);
+        // D(t) against a fine midpoint quadrature of the velocity.
+        for t in [0.3, 0.5, 0.9, 1.5, 1.8, 2.0, 3.25] {
+            let n = 200_000;
+            let mut q = [0.0; 2];
+            for k in 0..n {
+                let v = m.velocity((k as f64 + 0.5) * t / n as f64);
+                q[0] += v[0] * t / n as f64;
+                q[1] += v[1] * t / n as f64;
+            }
+            let d = m.displacement(t);
+            assert!((d[0] - q[0]).abs() < 1e-8 && (d[1] - q[1]).abs() < 1e-8, "t {t}: {d:?} vs {q:?}");
+        }
+        // By hand: ramp 0 → −2 over [0.5, 1.5] moves −1; then 0.5 s at −2 → −2 (+ x: ½·1·0.5).
+        let d = m.displacement(2.0);
+        assert!((d[0] - 0.25).abs() < 1e-15 && (d[1] + 2.0).abs() < 1e-15, "{d:?}");
+        let c = Motion::constant([0.1, -0.2]);
+        assert_eq!(c.displacement(2.0), [0.2, -0.4]);
+        let w = c.mean_velocity(1.0, 1e-3);
+        assert!((w[0] - 0.1).abs() < 1e-12 && (w[1] + 0.2).abs() < 1e-12);
+    }
+
+    fn table(v: Value) -> Map<String, Value> {
+        let Value::Object(m) = v else { unreachable!() };
+        m
+    }
+
+    fn square_body(extra: Value) -> Value {
+        let mut t = table(json!({"name": "plate", "shape": "polygon",
+                                  "vertices": [[0.25, 0.5], [0.75, 0.5], [0.75, 0.75], [0.25, 0.75]]}));
+        t.extend(table(extra));
+        Value::Object(t)
+    }
+
+    fn build(bodies: Value, axisymmetric: bool) -> Result<Vec<RigidBody>, String> {
+        let tables: Vec<Map<String, Value>> =
+            bodies.as_array().unwrap().iter().map(|b| b.as_object().unwrap().clone()).collect();
+        build_all(&tables, [0.0, 0.0], [1.0, 1.0], axisymmetric)
+    }
+
+    #[test]
+    fn bad_rigid_bodies_are_rejected_naming_the_key() {
+        let err = |b: Value, axi: bool| build(json!([b]), axi).err().expect("must be rejected");
+        let e = err(square_body(json!({"motion": [[0.0, 0.0, -1.0], [1.0, 0.0, -1.0], [1.0, 0.0, 0.0]]})), false);
+        assert!(e.starts_with("rigid_bodies[0].motion[2][0]") && e.contains("increase"), "{e}");
+        let e = err(square_body(json!({"velocity": [0.0, -1.0], "friction": -0.1})), false);
+        assert!(e.starts_with("rigid_bodies[0].friction"), "{e}");
+        assert!(err(square_body(json!({"velocity": [0.0, -1.0], "friction": "sticky"})), false).contains("rough"));
+        let e = err(square_body(json!({"velocity": [0.1, -1.0]})), true);
+        assert!(e.starts_with("rigid_bodies[0].velocity[0]") && e.contains("axisymmetric"), "{e}");
+        let e = err(square_body(json!({"motion": [[0.0, 0.0, -1.0], [1.0, 0.2, -1.0]]})), true);
+        assert!(e.starts_with("rigid_bodies[0].motion[1][1]"), "{e}");
+        let outside = json!({"name": "p", "shape": "polygon", "vertices": [[0.5, 0.5], [1.5, 0.5], [1.0, 0.9]],
+                             "velocity": [0.0, 0.0]});
+        assert!(err(outside, false).contains("inside the grid"));
+        let bow_tie = json!({"name": "p", "shape": "polygon", "vertices": [[0, 0], [1, 1], [1, 0], [0, 1]],
+                             "velocity": [0.0, 0.0]});
+        assert!(err(bow_tie, false).starts_with("rigid_bodies[0].vertices"));
+        assert!(err(square_body(json!({})), false).contains("velocity"));
+        assert!(err(square_body(json!({"velocity": [0, 0], "motion": [[0, 0, 0]]})), false).contains("not both"));
+        assert!(err(square_body(json!({"velocity": [0, 0], "name": "a.b"})), false).starts_with("rigid_bodies[0].name"));
+        let e = build(json!([square_body(json!({"velocity": [0, 0]})), square_body(json!({"velocity": [0, 0]}))]), false);
+        assert!(e.err().unwrap().starts_with("rigid_bodies[1].name"));
+        let ok = build(json!([square_body(json!({"motion": [[0.0, 0.0, 0.0], [1.0, 0.0, -1.0]], "friction": "rough"}))]), true)
+            .unwrap();
+        assert_eq!(ok[0].friction(), Friction::Rough);
+        assert!(build_all(&[], [0.0; 2], [1.0; 2], false).unwrap().is_empty());
+    }
+
+    /// On a 4 × 4-cell grid (h = 0.25) the plate [0.25, 0.75] × [0.5, 0.75] (moving down, by
+    /// less than the boundary tolerance over the step) covers the nodes i = 1..3, j = 2..3.
+    /// Material moving at (0.5, 0) everywhere: only the covered nodes with mass change, by the
+    /// contact law with the face normals (both faces at the corners), and the impulse is
+    /// Σ m (v − v') split into the base (corrections along a normal facing down) and the rest.
+    /// By hand (smooth, m = 2):
+    /// base interior (2, 2) → (0.5, −1); bottom-left corner (1, 2) → (0, −1) (base, then left
+    /// side); bottom-right (3, 2) → (0.5, −1) (moving away from the right side); top-left
+    /// (1, 3) → (0, 0) (leaving the top, into the left side); (2, 3) has no mass; top-right
+    /// (3, 3) unchanged. Base impulse (0, 6), shaft (2, 0).
+    #[test]
+    fn covered_nodes_are_corrected_and_the_impulse_is_the_removed_momentum() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let body = square_body(json!({"velocity": [0.0, -1.0]}));
+        let mut bodies = build(json!([body]), false).unwrap();
+        let b = &mut bodies[0];
+        let n = grid.num_nodes();
+        let mut mass = vec![2.0; n];
+        mass[grid.node_index(2, 3)] = 0.0;
+        let mut v = vec![[0.5, 0.0]; n];
+        let dt = 1e-13;
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt, axisymmetric: false };
+        b.apply(&context, &mut v, true);
+        let want = [((2, 2), [0.5, -1.0]), ((1, 2), [0.0, -1.0]), ((3, 2), [0.5, -1.0]), ((1, 3), [0.0, 0.0])];
+        for j in 0..5 {
+            for i in 0..5 {
+                let got = v[grid.node_index(i, j)];
+                let expect = want.iter().find(|(ij, _)| *ij == (i, j)).map_or([0.5, 0.0], |w| w.1);
+                assert!((got[0] - expect[0]).abs() < 1e-9 && (got[1] - expect[1]).abs() < 1e-9, "({i}, {j}): {got:?}");
+            }
+        }
+        let (base, shaft) = b.take_impulse_parts();
+        assert!(base[0].abs() < 1e-9 && (base[1] - 6.0).abs() < 1e-9, "base {base:?}");
+        assert!((shaft[0] - 2.0).abs() < 1e-9 && shaft[1].abs() < 1e-9, "shaft {shaft:?}");
+        // The total has its own accumulator: base + shaft, then reset.
+        let total = b.take_impulse();
+        assert!((total[0] - 2.0).abs() < 1e-9 && (total[1] - 6.0).abs() < 1e-9, "{total:?}");
+        assert_eq!(b.take_impulse(), [0.0, 0.0], "reset by the call");
+        assert_eq!(b.take_impulse_parts(), ([0.0; 2], [0.0; 2]), "reset by the call");
+        // Not recorded: the same correction, no impulse.
+        let mut v = vec![[0.5, 0.0]; n];
+        b.apply(&context, &mut v, false);
+        assert_eq!(v[grid.node_index(1, 2)], [0.0, -1.0]);
+        assert_eq!(b.take_impulse(), [0.0, 0.0]);
+        // At the end of a longer step the plate has left the top row: those nodes are free.
+        let mut v = vec![[0.5, 0.0]; n];
+        let later = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 0.01, axisymmetric: false };
+        b.apply(&later, &mut v, true);
+        assert_eq!(v[grid.node_index(1, 3)], [0.5, 0.0]);
+        assert!((v[grid.node_index(2, 2)][1] + 1.0).abs() < 1e-12);
+        let total = b.take_impulse();
+        // Base interior and bottom-right: (0, 2) each; bottom-left (left face, then the base
+        // within the tie): (1, 2).
+        assert!((total[0] - 1.0).abs() < 1e-9 && (total[1] - 6.0).abs() < 1e-9, "{total:?}");
+    }
+
+    /// Nodes outside the body count as covered up to the reach: with the plate's base at
+    /// y = 0.5 and the node row j = 1 at y = 0.25, a reach of 0.3 takes in row 1 under the base
+    /// (normal −y), a reach of 0.2 leaves it free; nodes beside the plate stay free either way.
+    #[test]
+    fn the_reach_takes_in_nodes_just_outside() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let mass = vec![1.0; grid.num_nodes()];
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: false };
+        for (reach, covered) in [(0.3, true), (0.2, false)] {
+            let body = square_body(json!({"velocity": [0.0, -1.0]}));
+            let b = build(json!([body]), false).unwrap().pop().unwrap();
+            let mut b = b.with_reach(reach);
+            let mut v = vec![[0.0, 0.0]; grid.num_nodes()];
+            b.apply(&context, &mut v, true);
+            assert_eq!(v[grid.node_index(2, 1)], if covered { [0.0, -1.0] } else { [0.0, 0.0] }, "reach {reach}");
+            // Beside the plate (0.25 from its side) and below its corners (diagonal 0.354): free.
+            assert_eq!(v[grid.node_index(4, 2)], [0.0, 0.0]);
+            assert_eq!(v[grid.node_index(0, 1)], [0.0, 0.0]);
+        }
+    }
+
+    #[test]
+    fn axis_nodes_keep_zero_radial_velocity() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let body = json!({"name": "pile", "shape": "polygon", "vertices": [[0.0, 0.5], [0.5, 0.25], [0.5, 1.0], [0.0, 1.0]],
+                          "velocity": [0.0, -1.0]});
+        let mut bodies = build(json!([body]), true).unwrap();
+        let mass = vec![1.0; grid.num_nodes()];
+        let mut v = vec![[0.0, 0.0]; grid.num_nodes()];
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-6, axisymmetric: true };
+        bodies[0].apply(&context, &mut v, true);
+        // The axis node on the sloping tip (0, 0.5): oblique normal, but v_r stays 0.
+        let tip = v[grid.node_index(0, 2)];
+        assert_eq!(tip[0], 0.0);
+        assert!(tip[1] < 0.0);
+    }
+}

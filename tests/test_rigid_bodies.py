@@ -1,0 +1,171 @@
+"""Rigid bodies, polygon bodies and Tresca from the front end (issue #13): scenario checks naming
+the key (exit 2), particles cut out of the soil, history/summary/load_run columns, the footing
+case's N_c from a run folder, and the run-time estimate of ``axmpm check``."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from axmpm import load_run
+from axmpm.cli import main
+from axmpm.errors import ScenarioError
+from axmpm.scenario import Scenario, apply_overrides
+
+
+def footing(**simulation: object) -> dict:
+    """A small half-strip footing on Tresca clay (a few hundred particles)."""
+    return {
+        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": 0.05,
+                       "output_interval": 0.025, "history_interval": 0.005, "gravity": [0.0, 0.0],
+                       "volumetric_averaging": "cell", **simulation},
+        "grid": {"extent": [1.0, 0.8], "cell_size": 0.05},
+        "materials": {"clay": {"model": "mohr_coulomb", "density": 1800.0, "youngs_modulus": 3e6,
+                               "poisson_ratio": 0.45, "friction_angle": 0.0, "cohesion": 10e3}},
+        "bodies": [{"material": "clay", "min": [0.0, 0.0], "max": [1.0, 0.6]}],
+        "rigid_bodies": [{"name": "footing", "shape": "polygon",
+                          "vertices": [[0.0, 0.6], [0.25, 0.6], [0.25, 0.7], [0.0, 0.7]],
+                          "motion": [[0.0, 0.0, 0.0], [0.01, 0.0, -0.5]], "friction": "rough"}],
+        "boundaries": {"left": "roller", "right": "roller", "bottom": "fixed"},
+    }
+
+
+def errors_of(data: dict, *overrides: str) -> dict[str, str]:
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(apply_overrides(data, list(overrides)))
+    return dict(info.value.errors)
+
+
+BAD_INPUT = [
+    ("rigid_bodies.0.vertices=[[0, 0.6], [0.25, 0.7], [0.25, 0.6], [0, 0.7]]", "rigid_bodies.0.vertices",
+     "must be simple"),
+    ("rigid_bodies.0.vertices=[[0, 0.6], [0.1, 0.6], [0.2, 0.6]]", "rigid_bodies.0.vertices", "degenerate"),
+    ("rigid_bodies.0.vertices=[[0, 0.6], [0.25, 0.6], [0.25, 0.9], [0, 0.9]]", "rigid_bodies.0",
+     "must lie inside the grid"),
+    ("rigid_bodies.0.motion=[[0, 0, 0], [0.01, 0, -0.5], [0.01, 0, 0]]", "rigid_bodies.0.motion.2.0",
+     "times must increase"),
+    ("rigid_bodies.0.friction=-0.1", "rigid_bodies.0.friction", 'must be a number >= 0 or "rough"'),
+    ("rigid_bodies.0.friction='sticky'", "rigid_bodies.0.friction", 'must be a number >= 0 or "rough"'),
+    ("rigid_bodies.0.name='left'", "rigid_bodies.0.name", "grid face or wall"),
+    ("rigid_bodies.0.name='a.b'", "rigid_bodies.0.name", "pattern"),
+    ("materials.clay.cohesion=0", "materials.clay.friction_angle", "= 0 (Tresca) needs cohesion > 0"),
+    ("materials.clay.dilation_angle=2", "materials.clay.dilation_angle", "<= friction_angle"),
+]
+
+
+@pytest.mark.parametrize("override,key,text", BAD_INPUT, ids=[b[1] + ":" + b[2] for b in BAD_INPUT])
+def test_bad_rigid_body_input_names_the_key(override: str, key: str, text: str) -> None:
+    errors = errors_of(footing(), override)
+    assert key in errors, errors
+    assert text in errors[key], errors[key]
+
+
+def test_radial_motion_in_axisymmetry_is_refused() -> None:
+    data = footing()
+    data["simulation"]["formulation"] = "axisymmetric"
+    errors = errors_of(data, "rigid_bodies.0.motion=[[0, 0, 0], [0.01, 0.1, -0.5]]")
+    assert "vx must be 0 in axisymmetric runs" in errors["rigid_bodies.0.motion.1.1"]
+    errors = errors_of(data, "rigid_bodies.0.velocity=[0.2, 0]", "rigid_bodies.0.motion=[]")
+    assert "rigid_bodies.0.velocity.0" in errors or "rigid_bodies.0.motion" in errors
+
+
+def test_cli_check_exits_2_naming_the_key(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import tomli_w
+
+    data = apply_overrides(footing(), ["rigid_bodies.0.motion=[[0, 0, 0], [0, 0, -1]]"])
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(data))
+    assert main(["check", str(path), "--no-estimate"]) == 2
+    assert "error: rigid_bodies.0.motion.1.0: times must increase" in capsys.readouterr().err
+
+
+def test_no_particle_is_created_inside_a_rigid_body_and_polygon_bodies_fill_their_lattice() -> None:
+    data = footing()
+    # A pre-embedded pile and a sloping polygon body.
+    data["rigid_bodies"].append({"name": "pile", "shape": "rectangle", "min": [0.6, 0.3], "max": [0.7, 0.7],
+                                 "velocity": [0.0, 0.0]})
+    data["bodies"].append({"material": "clay", "shape": "polygon", "allow_overlap": True,
+                           "vertices": [[0.5, 0.6], [1.0, 0.6], [1.0, 0.75]]})
+    s = Scenario.from_dict(data)
+    positions = s.particle_positions()
+    for body in s.rigid_bodies:
+        for p in positions:
+            assert not body.contains(p).any()
+    # The soil block loses the pile's 2 × 6 cells (48 particles); the triangle keeps the lattice
+    # points inside it: area 0.0375 m² = 15 cells of 4 → about 60.
+    assert len(positions[0]) == 20 * 12 * 4 - 2 * 6 * 4
+    assert abs(len(positions[1]) - 60) <= 8
+    from axmpm._core import Simulation
+
+    sim = Simulation(s.engine_json(), 1)
+    assert sim.num_particles == s.particle_count() == sum(len(p) for p in positions)
+
+
+def test_history_summary_and_load_run_report_the_rigid_body(tmp_path: Path) -> None:
+    from axmpm import run
+
+    summary = run(Scenario.from_dict(footing()), tmp_path / "run", threads=1)
+    assert summary["status"] == "completed"
+    r = load_run(tmp_path / "run")
+    body = r.rigid_bodies["footing"]
+    times = r.history["time"]
+    assert len(times) == 11  # every 5 ms: history_interval between the 3 frames
+    # Displacement: the integral of the ramp 0 → 0.5 m/s over 10 ms, then 0.5 m/s.
+    expect = np.where(times <= 0.01, 0.5 * 0.5 * times**2 / 0.01, 0.5 * (times - 0.005))
+    assert np.allclose(-body["displacement"][:, 1], expect, rtol=1e-12, atol=1e-15)
+    # The force is the base part plus the shaft part; the footing bears on the clay.
+    assert np.allclose(body["force"], body["base_force"] + body["shaft_force"], rtol=1e-9, atol=1e-6)
+    assert body["force"][-1, 1] > 0.0
+    assert np.array_equal(r.reactions["footing"], body["force"])
+    saved = json.loads((tmp_path / "run" / "summary.json").read_text())["rigid_bodies"]["footing"]
+    assert saved["displacement"][1] == pytest.approx(-0.5 * 0.045)
+    assert saved["force"] == pytest.approx(list(body["force"][-1]))
+
+
+def test_footing_case_reads_nc_from_a_run_folder(tmp_path: Path) -> None:
+    from axmpm import run
+    from axmpm.cases.footing.scenario import bearing_capacity_factor, load_settlement
+
+    # A fabricated history: 0.001B per row, q/s_u rising to 5 over 0.02B then flat at 5 ± 0.2.
+    s = np.arange(0, 0.0705, 0.001)
+    nc = np.minimum(5.0, 250.0 * s) + 0.2 * np.sin(1000.0 * s)
+    mid = 0.5 * (s[1:] + s[:-1])
+    window = (mid >= 0.04 - 1e-9) & (mid <= 0.06 + 1e-9)
+    assert bearing_capacity_factor(mid, nc[1:]) == pytest.approx(np.mean(nc[1:][window]))
+    assert bearing_capacity_factor(mid[mid < 0.05], nc[1:][mid < 0.05]) is None  # did not reach 0.06B
+    # From a real (short) run folder: the curve starts at zero load and rises.
+    run(Scenario.from_dict(footing()), tmp_path / "run", threads=1)
+    settlement, q = load_settlement(tmp_path / "run", "plane_strain")
+    assert settlement[0] > 0.0 and np.all(np.diff(settlement) > 0.0)
+    assert q[-1] > q[0] > 0.0
+
+
+def test_check_estimates_the_run_time(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    import tomli_w
+
+    path = tmp_path / "footing.toml"
+    path.write_text(tomli_w.dumps(footing()))
+    assert main(["check", str(path), "--threads", "1"]) == 0
+    out = capsys.readouterr().out
+    s = Scenario.from_dict(footing())
+    c_p = math.sqrt(3e6 * 0.55 / (1.45 * 0.1) / 1800.0)  # (λ + 2μ)/ρ with ν = 0.45
+    dt = 0.4 * 0.05 / c_p
+    assert f"time step {dt:.4g} s" in out
+    assert f"{math.ceil(0.05 / dt):,} steps" in out
+    assert f"{s.particle_count():,} particles" in out
+    assert "particle-steps/s" in out and "of run time" in out
+
+
+def test_tresca_defaults_have_no_tension_cutoff() -> None:
+    s = Scenario.from_dict(footing())
+    clay = s.materials["clay"]
+    assert clay.tension_cutoff is None and clay.dilation_angle == 0.0
+    assert "tension_cutoff" not in s.to_toml()
+    assert json.loads(s.engine_json())["materials"]["clay"]["tension_cutoff"] is None
+    data = footing()
+    data["materials"]["clay"]["friction_angle"] = 25.0
+    assert Scenario.from_dict(data).materials["clay"].tension_cutoff == 0.0
