@@ -17,7 +17,7 @@ Numerics and why:
 
 * ``volumetric_averaging = "cell"``: ν = 0.49 and isochoric plastic flow lock a one-point MPM
   kinematics; the cell's mean dilatation (F-bar) removes it (docs/physics.md §1).
-* cpGIMP, 2 × 2 particles per cell, MUSL, pure FLIP (``flip_fraction = 1``), CFL 0.4.
+* cpGIMP, 2 × 2 particles per cell, MUSL, FLIP 0.999 (``flip_fraction``), CFL 0.4.
   Scheme: the original MPM (``linear``) is 2–3× cheaper and within 2 % at B/h = 10 and 20
   (strip, smooth, FLIP 0.99: 5.19, 5.12), but at B/h = 40 the averaging window is 2.4 cells of
   travel and the cell-crossing noise of the hat functions makes the load decay after its peak
@@ -27,7 +27,11 @@ Numerics and why:
   so even 1 % of PIC acts as a viscosity: with FLIP 0.99, N_c fell by 1.4 % when the footing
   moved half as fast (circle, B/h = 20), and pure FLIP gave N_c 2–3 % below FLIP 0.99 (strip and
   circle, B/h = 20 and 40); more PIC is far worse (FLIP 0.5: +18 %, PIC: +25 %, linear, B/h =
-  20). The choices are physical (no numerical viscosity), not tuned to the exact values.
+  20). Pure FLIP, however, let the particle noise at the circular footing's edge grow until a
+  particle was thrown off the grid (smooth, B/h = 40, twice, at settlements 0.056B and 0.063B);
+  FLIP 0.999 keeps a tenth of the default PIC share, which damps that noise (the run completes)
+  at a tenth of the 0.99 viscosity (N_c within 0.7 % of pure FLIP on the strip). These choices
+  are made for the numerics (no noise, no numerical viscosity), not tuned to the exact values.
 * Loading rate. The footing accelerates linearly to V = 0.1 m/s over t_r = 0.1 s (a settlement of
   0.005B) and then moves at V. Inertia: in steady motion the dynamic pressure ρV² = 18 Pa is
   0.04 % of the collapse pressure N_c s_u ≈ 51 kPa; a sudden start would send a pressure pulse
@@ -36,10 +40,7 @@ Numerics and why:
   (0.04B, t = 0.45 s). The loading to 0.06B takes 0.65 s, about six shear-wave transits
   (c_s = 24 m/s) of the 2.5 m half width. Checked: V = 0.05, 0.1 and 0.2 m/s gave N_c within
   0.6 % of each other (strip, smooth, B/h = 20); 0.4 m/s gave 9 % more.
-* Headroom: the grid reaches 0.5 m above the soil surface. With pure FLIP a single particle
-  beside the edge of the circular footing was thrown up by 0.2 m at B/h = 40 (smooth, at a
-  settlement of 0.056B) and left a grid that ended at the footing's top, which stops a run; with
-  the headroom it stays on the grid (one particle does not change the footing's load).
+* Headroom: the grid reaches 0.5 m above the soil surface (the heave, and room for the footing).
 * Cost: the P-wave of the nearly incompressible soil sets Δt = 0.4 h/c_p (5.9e-5 s at B/h = 40),
   so the finest run is 48,000 particles × 12,700 steps ≈ 6e8 particle-steps (2–4 min of one
   core with cpGIMP; the whole case 10–20 min on one core, 5–10 min with two jobs).
@@ -124,7 +125,7 @@ def footing_scenario(formulation: str = "plane_strain", roughness: str = "smooth
             "history_interval": HISTORY_SETTLEMENT_STEP * WIDTH / VELOCITY,
             "gravity": [0.0, 0.0],
             "volumetric_averaging": "cell",
-            "flip_fraction": 1.0,
+            "flip_fraction": 0.999,
         },
         "grid": {"origin": [0.0, 0.0], "extent": [SOIL_HALF_WIDTH, grid_top], "cell_size": h},
         "materials": {
