@@ -110,18 +110,24 @@ class Footing:
                     f"{EXACT[(f, r)]:.3f} ({100 * err:+.1f} %)"
             checks.append({"name": f"{label}: N_c within {100 * LIMIT:g} % at the finest mesh",
                            "passed": abs(err) <= LIMIT, "detail": where})
-            checks.append({"name": f"{label}: N_c within {100 * TARGET:g} % at the finest mesh (target)",
-                           "passed": abs(err) <= TARGET, "detail": where})
+            checks.append({"name": f"{label}: N_c within {100 * TARGET:g} % at the finest mesh (aim)",
+                           "passed": abs(err) <= TARGET, "detail": where, "required": False})
         smooth, rough = _finest(results, "axisymmetric", "smooth"), _finest(results, "axisymmetric", "rough")
         strip = _finest(results, "plane_strain", "smooth")
         if smooth is not None and rough is not None:
             d = rough["bearing_capacity_factor"] - smooth["bearing_capacity_factor"]
             checks.append({"name": "circle: rough above smooth (exact 6.05 − 5.69 = 0.36)", "passed": d > 0.0,
                            "detail": f"rough − smooth = {d:+.3f} at the finest mesh"})
+            checks.append({"name": "circle: rough − smooth within 0.1 of the exact 0.36 (aim: the difference resolved)",
+                           "passed": abs(d - 0.36) <= 0.1, "detail": f"rough − smooth = {d:+.3f}",
+                           "required": False})
         if smooth is not None and strip is not None:
             d = smooth["bearing_capacity_factor"] - strip["bearing_capacity_factor"]
             checks.append({"name": "smooth: circle above strip (exact 5.69 − 5.14 = 0.55)", "passed": d > 0.0,
                            "detail": f"circle − strip = {d:+.3f} at the finest mesh"})
+            checks.append({"name": "smooth: circle − strip within 0.1 of the exact 0.55 (aim: the difference resolved)",
+                           "passed": abs(d - 0.55) <= 0.1, "detail": f"circle − strip = {d:+.3f}",
+                           "required": False})
         return checks
 
     def document(self, results: list[dict[str, Any]], options: argparse.Namespace) -> dict[str, Any]:
@@ -155,7 +161,8 @@ class Footing:
             except Exception as exc:  # noqa: BLE001 - a report without figures is still a report
                 figures = f"(figures not written: {type(exc).__name__}: {exc})\n"
         lines = ["| check | result | detail |", "|---|---|---|"]
-        lines += [f"| {c['name']} | {'pass' if c['passed'] else '**FAIL**'} | {c.get('detail', '')} |" for c in checks]
+        lines += [f"| {c['name']} | {'pass' if c['passed'] else ('**FAIL**' if c.get('required', True) else 'missed (aim)')} "
+                  f"| {c.get('detail', '')} |" for c in checks]
         return f"""# axmpm verification: rigid footing on Tresca soil
 
 Rigid footing pushed into a weightless Tresca layer (s_u = 10 kPa, E = 3 MPa, ν = 0.49 with cell
