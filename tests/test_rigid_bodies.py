@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import json
 import math
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from axmpm import load_run
+from axmpm import load_run, run
 from axmpm.cli import main
 from axmpm.errors import ScenarioError
 from axmpm.scenario import Scenario, apply_overrides
@@ -169,3 +170,46 @@ def test_tresca_defaults_have_no_tension_cutoff() -> None:
     data = footing()
     data["materials"]["clay"]["friction_angle"] = 25.0
     assert Scenario.from_dict(data).materials["clay"].tension_cutoff == 0.0
+
+
+def _pile_example():
+    import importlib.util
+
+    root = Path(__file__).resolve().parents[1]
+    spec = importlib.util.spec_from_file_location("pile_load_test", root / "examples" / "pile_load_test.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return root / "examples" / "pile_load_test.toml", module
+
+
+def test_pile_example_berezantzev_estimate() -> None:
+    """The chart values are reproduced at its nodes, N_q rises with φ and falls with L/D, and the
+    example's base estimate is N_q γ L π r² from its own scenario."""
+    toml_path, pile = _pile_example()
+    assert pile.berezantzev_nq(30.0, 10.0) == pytest.approx(27.5, rel=1e-12)
+    assert pile.berezantzev_nq(34.0, 5.0) == pytest.approx(75.9, rel=1e-12)
+    assert pile.berezantzev_nq(31.0, 10.0) > pile.berezantzev_nq(30.0, 10.0) > pile.berezantzev_nq(30.0, 14.0)
+    import shutil
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        shutil.copy(toml_path, Path(tmp) / "scenario.toml")
+        est = pile.textbook_estimates(Path(tmp))
+    assert est["embedment_ratio"] == pytest.approx(10.0)
+    assert est["base"] == pytest.approx(27.5 * 1800.0 * 9.81 * 5.0 * np.pi * 0.25**2, rel=1e-9)
+    assert est["shaft"] == pytest.approx(0.5 * 0.364 * 1800.0 * 9.81 * 12.5 * 2.0 * np.pi * 0.25, rel=1e-9)
+
+
+def test_pile_example_carries_the_geostatic_load_before_the_push(tmp_path: Path) -> None:
+    """The pile load test on a coarse grid, stopped before the push: the base carries the
+    geostatic vertical stress ρ g L over the tip area and the shaft carries nothing."""
+    toml_path, _ = _pile_example()
+    data = tomllib.loads(toml_path.read_text())
+    data["grid"]["cell_size"] = 0.125
+    data["simulation"].update(end_time=0.25, output_interval=0.25, history_interval=0.05)
+    run(Scenario.from_dict(data), tmp_path / "run", threads=1)
+    pile = load_run(tmp_path / "run").rigid_bodies["pile"]
+    geostatic = 1800.0 * 9.81 * 5.0 * np.pi * 0.25**2
+    assert pile["base_force"][-1, 1] == pytest.approx(geostatic, rel=0.02)
+    assert abs(pile["shaft_force"][-1, 1]) < 0.05 * geostatic
+    assert np.all(pile["displacement"][:, 1] == 0.0)
