@@ -544,6 +544,23 @@ mod tests {
         assert!((v[0] * n[0] + v[1] * n[1]).abs() < 1e-15);
         let d = [v[0] + 1.0, v[1] - 0.2];
         assert!((d[0] * n[1] - d[1] * n[0]).abs() < 1e-15, "correction not along n");
+        // A body moving sideways (a pile pushed laterally in plane strain): its right face
+        // (outward normal +x) moving at 0.4 m/s meets material at rest, which is pushed along
+        // at the body's speed and keeps its own tangential velocity when smooth.
+        assert_eq!(contact_velocity([0.0, 0.2], [0.4, 0.0], [1.0, 0.0], SMOOTH), [0.4, 0.2]);
+        // Material already moving away faster than the face: untouched.
+        assert_eq!(contact_velocity([0.5, 0.2], [0.4, 0.0], [1.0, 0.0], Friction::Rough), [0.5, 0.2]);
+    }
+
+    /// The base/shaft split: a face steeper than 45° from horizontal is shaft; a 45° face (a
+    /// cone tip of 90°) is shaft too, by the strict inequality; a flat base is base.
+    #[test]
+    fn faces_down_splits_base_from_shaft_at_45_degrees() {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        assert!(faces_down([0.0, -1.0]));
+        assert!(faces_down([0.5, -0.9]));
+        assert!(!faces_down([s, -s]), "a 45° face counts as shaft");
+        assert!(!faces_down([1.0, 0.0]) && !faces_down([0.0, 1.0]));
     }
 
     #[test]
