@@ -11,7 +11,7 @@ use crate::material::{self, Material};
 use crate::particles::Particles;
 use crate::setup::create_particles;
 use crate::interpolation::{CpGimp, Cpdi2, Linear, ShapeFunction, UGimp};
-use crate::solver::{self, Failure, Scratch, State, StepParameters};
+use crate::solver::{self, Failure, Scratch, State, StepParameters, Tile, TileOrder};
 
 type StepFn = fn(&mut State, f64, [f64; 2]) -> Result<(), Failure>;
 
@@ -78,6 +78,10 @@ struct Checkpoint {
     /// metre); absent in older checkpoints (then 0).
     #[serde(default)]
     boundary_dissipation: [f64; 2],
+    /// The particles' tiles since the last sort (`particles` are stored in that order, with
+    /// their ids); absent in older checkpoints (then the particles are sorted on resume).
+    #[serde(default)]
+    tiles: Vec<Tile>,
 }
 
 const CHECKPOINT_FORMAT: u32 = 1;
@@ -112,6 +116,18 @@ fn select_step(formulation: FormulationKind, shape: ShapeFunctionKind) -> StepFn
     }
 }
 
+/// Whether `tiles` cover the particle arrays `0..n` in order, each tile non-empty.
+fn tiles_cover(tiles: &[Tile], n: usize) -> bool {
+    let mut next = 0;
+    for t in tiles {
+        if t.start != next || t.end <= t.start {
+            return false;
+        }
+        next = t.end;
+    }
+    !tiles.is_empty() && next as usize == n
+}
+
 fn uses_corners(shape: ShapeFunctionKind) -> bool {
     match shape {
         ShapeFunctionKind::Linear => Linear::USES_CORNERS,
@@ -133,7 +149,7 @@ impl Simulation {
         Self::build(config, threads, None)
     }
 
-    fn build(config: Config, threads: usize, restored: Option<(Particles, f64, u64)>) -> Result<Self, String> {
+    fn build(config: Config, threads: usize, restored: Option<(Particles, f64, u64, Vec<Tile>)>) -> Result<Self, String> {
         config.validate()?;
         let material_names: Vec<String> = config.materials.keys().cloned().collect();
         let materials: Vec<Box<dyn Material>> = config
@@ -155,7 +171,7 @@ impl Simulation {
         let s = &config.simulation;
         let axisymmetric = s.formulation == FormulationKind::Axisymmetric;
         let with_corners = uses_corners(s.shape_function);
-        let (mut particles, time, steps) = match restored {
+        let (mut particles, time, steps, tiles) = match restored {
             Some(r) => r,
             None => {
                 let particles = match s.formulation {
@@ -166,9 +182,16 @@ impl Simulation {
                         create_particles::<Axisymmetric>(&config, &grid, &materials, &material_names, stride, with_corners)?
                     }
                 };
-                (particles, 0.0, 0)
+                (particles, 0.0, 0, Vec::new())
             }
         };
+        // Tiles belong to the order they were sorted into: without the ids, sort again.
+        let tiles = if particles.id.len() == particles.len() && tiles_cover(&tiles, particles.len()) {
+            TileOrder::from_tiles(tiles)
+        } else {
+            TileOrder::default()
+        };
+        particles.ensure_ids();
         particles.shrink_to_fit();
         if particles.is_empty() {
             return Err("bodies: no particle was created (is every body at least one cell in size?)".into());
@@ -204,7 +227,7 @@ impl Simulation {
         let mut state = State {
             grid,
             fields: GridFields::new(grid.num_nodes()),
-            lanes: Vec::new(),
+            tiles,
             scratch: Scratch::default(),
             particles,
             state_lengths: materials.iter().map(|m| m.state_names().len()).collect(),
@@ -280,6 +303,7 @@ impl Simulation {
             }
             taken += 1;
             if let Err(failure) = result {
+                let failure = failure.with_id(&self.state.particles.id);
                 let f = SimulationFailure { message: failure.message(), time: self.state.time, steps: self.state.steps };
                 self.failure = Some(f.clone());
                 return Err(f);
@@ -291,7 +315,14 @@ impl Simulation {
     pub fn config(&self) -> &Config {
         &self.config
     }
-    pub fn particles(&self) -> &Particles {
+    /// The particles in id order (the order they were created in), whatever order the
+    /// solver keeps them in (a copy when that differs).
+    pub fn particles(&self) -> std::borrow::Cow<'_, Particles> {
+        self.state.particles.in_id_order()
+    }
+    /// The particles in the order the solver keeps them (sorted by grid tile; `id` gives
+    /// each one's place in [`Simulation::particles`]).
+    pub fn particles_in_solver_order(&self) -> &Particles {
         &self.state.particles
     }
     pub fn grid(&self) -> &GridGeometry {
@@ -312,7 +343,7 @@ impl Simulation {
     }
     /// Bytes held per particle: the particle arrays plus the per-particle scratch of the step
     /// (position increments, the scheme's stencil cache and, with cell averaging, the velocity
-    /// gradients; the grid and its lanes are counted separately, per node).
+    /// gradients; the grid is counted separately, per node; the scatter needs no nodal buffers of its own).
     pub fn bytes_per_particle(&self) -> usize {
         let n = self.state.particles.len().max(1);
         let sc = &self.state.scratch;
@@ -346,7 +377,7 @@ impl Simulation {
     /// Per-particle state as rows of `state_names()` values (0 where a particle's material
     /// does not have that variable).
     pub fn state_table(&self) -> Vec<f64> {
-        let p = &self.state.particles;
+        let p = self.particles();
         let cols = self.state_names.len();
         let mut out = vec![0.0; p.len() * cols];
         let columns: Vec<Vec<usize>> = self
@@ -430,7 +461,7 @@ impl Simulation {
 
     /// The energy budget ([`Energies`]), summed in particle order (deterministic).
     pub fn energies(&self) -> Energies {
-        let p = &self.state.particles;
+        let p = self.particles();
         let g = self.config.simulation.gravity;
         let materials = &self.state.materials;
         let work_slot: Vec<Option<usize>> =
@@ -468,6 +499,7 @@ impl Simulation {
             time: self.state.time,
             steps: self.state.steps,
             boundary_dissipation: self.state.constraints.dissipated_energy(),
+            tiles: self.state.tiles.tiles.clone(),
         };
         serde_json::to_vec(&checkpoint).map_err(|e| format!("checkpoint: {e}"))
     }
@@ -478,7 +510,7 @@ impl Simulation {
         if c.format != CHECKPOINT_FORMAT {
             return Err(format!("checkpoint format {} is not supported (expected {CHECKPOINT_FORMAT})", c.format));
         }
-        let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps)))?;
+        let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps, c.tiles)))?;
         sim.state.constraints.restored_dissipation = c.boundary_dissipation;
         Ok(sim)
     }
