@@ -228,6 +228,7 @@ impl Simulation {
             grid,
             fields: GridFields::new(grid.num_nodes()),
             tiles,
+            sorted_at: None,
             scratch: Scratch::default(),
             particles,
             state_lengths: materials.iter().map(|m| m.state_names().len()).collect(),
@@ -239,6 +240,10 @@ impl Simulation {
             timings: Default::default(),
         };
         state.allocate_scratch();
+        // A new run (or an older checkpoint) is sorted now, as part of the set-up.
+        if state.tiles.is_empty() {
+            state.sort_if_due();
+        }
         // threads = 0: as many cores as the problem can use. Below ~10,000 particles per thread
         // the fork/join of each pass costs more than it saves. Results do not depend on it.
         let threads = if threads == 0 {

@@ -131,12 +131,11 @@ unsafe fn gather<F: Formulation, S: ShapeFunction>(
         if let Some(momentum) = momentum {
             if in_zone != overflow {
                 let m = mass[i];
-                let v_new = *v_io;
-                S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
+                let mv = [m * v_io[0], m * v_io[1]];
+                S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, move |node, w, _| {
                     let p = momentum.at(node);
-                    let wm = w * m;
-                    p[0] += wm * v_new[0];
-                    p[1] += wm * v_new[1];
+                    p[0] += w * mv[0];
+                    p[1] += w * mv[1];
                 });
             }
         }

@@ -71,6 +71,9 @@ pub struct State {
     pub fields: GridFields,
     /// The particles' tiles since the last sort (empty: sort before the next step).
     pub tiles: TileOrder,
+    /// The step count at the last sort, when this object made it (a sort at that count again
+    /// would change nothing: the sort is stable and idempotent).
+    pub sorted_at: Option<u64>,
     pub scratch: Scratch,
     pub particles: Particles,
     pub materials: Vec<Box<dyn Material>>,
@@ -164,8 +167,10 @@ impl State {
     /// The decision depends on the step count only, so a resumed run sorts where the
     /// uninterrupted one did.
     pub fn sort_if_due(&mut self) {
-        if self.tiles.is_empty() || self.steps % tiles::SORT_INTERVAL == 0 {
+        let due = self.steps % tiles::SORT_INTERVAL == 0 && self.sorted_at != Some(self.steps);
+        if self.tiles.is_empty() || due {
             self.tiles = tiles::sort_particles(&self.grid, &mut self.particles);
+            self.sorted_at = Some(self.steps);
         }
     }
 }

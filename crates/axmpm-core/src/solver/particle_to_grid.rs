@@ -111,23 +111,27 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         if in_zone == overflow {
             continue;
         }
+        // What every node of the particle shares, formed once per particle: m v, −V σ and
+        // the body force m g (with the hoop term −V σ_θθ S / R_p, also linear in S).
         let m = mass[i];
         let v = velocity[i];
         let vol = volume[i];
         let s = stress[i];
-        let hoop = F::hoop_factor(position[i]);
+        let momentum = [m * v[0], m * v[1]];
+        let minus_vs = [-vol * s[0], -vol * s[1], -vol * s[3]];
+        let body = [m * gravity[0] - vol * s[2] * F::hoop_factor(position[i]), m * gravity[1]];
         // `move`: the closure holds its own copies of the pointers and values, which the
         // compiler keeps in registers (captured by reference, it reloads them after every
         // store through the pointers, which it cannot prove do not alias them).
         S::visit_entries(&grid, c, &domain, F::AXISYMMETRIC, move |node, w, g| {
             *targets.mass.at(node) += w * m;
             let p = targets.momentum.at(node);
-            p[0] += w * m * v[0];
-            p[1] += w * m * v[1];
-            // Internal force (Sulsky & Schreyer 1996, docs/physics.md §2) plus gravity.
+            p[0] += w * momentum[0];
+            p[1] += w * momentum[1];
+            // Internal force −V σ·∇S (Sulsky & Schreyer 1996, docs/physics.md §2) plus gravity.
             let f = targets.force.at(node);
-            f[0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
-            f[1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
+            f[0] += minus_vs[0] * g[0] + minus_vs[2] * g[1] + w * body[0];
+            f[1] += minus_vs[2] * g[0] + minus_vs[1] * g[1] + w * body[1];
         });
     }
     reach

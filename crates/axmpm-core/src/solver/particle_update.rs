@@ -128,10 +128,11 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     let material = &inputs.materials[inputs.material_ids[p] as usize];
     material.update_stress(u.stress, u.state, &kinematics);
 
-    let finite = x[0].is_finite()
-        && x[1].is_finite()
-        && u.stress.iter().all(|s| s.is_finite())
-        && inputs.velocity[p].iter().all(|v| v.is_finite());
+    // All finite at once: x · 0 is ±0 for a finite x and NaN for ±∞ or NaN, so the sum of
+    // the products is zero exactly when every value is finite (one test instead of eight).
+    let (s, v) = (*u.stress, inputs.velocity[p]);
+    let zeros = [x[0], x[1], s[0], s[1], s[2], s[3], v[0], v[1]].map(|c| c * 0.0);
+    let finite = zeros.iter().sum::<f64>() == 0.0;
     if !finite {
         Some(Failure::NotFinite { particle: p })
     } else if !grid.contains(*x) || (F::AXISYMMETRIC && x[0] <= 0.0) {
