@@ -50,6 +50,7 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
     let displacements = Shared::new(&mut state.scratch.displacement);
     let particles = &state.particles;
     let order = &state.tiles;
+    let mut serial = std::time::Duration::ZERO;
     for c in 0..COLOURS {
         let range = order.colour(c);
         order.tiles[range.clone()].par_iter().zip(&order.reach[range.clone()]).for_each(|(tile, reach)| {
@@ -61,6 +62,7 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
         });
         if musl {
             // The particles that left their tile's zone re-map on this thread, in array order.
+            let serial_start = std::time::Instant::now();
             for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
                 if reach.overflow {
                     // SAFETY: nothing else runs now.
@@ -68,8 +70,10 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
                     unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, Some(tile.zone()), v, dx, true) };
                 }
             }
+            serial += serial_start.elapsed();
         }
     }
+    state.timings.serial += serial.as_secs_f64();
     if musl {
         remap_velocity(state, dt);
     }

@@ -95,6 +95,10 @@ pub struct PhaseTimings {
     pub grid_update: f64,
     pub grid_to_particle: f64,
     pub constitutive_update: f64,
+    /// Of the time above, the parts that run on one thread whatever the thread count: the
+    /// sort's counting, the scatter's particles outside their tile's zone, the constraints,
+    /// the cell averages' sums (for the serial fraction of `axmpm bench`'s notes).
+    pub serial: f64,
 }
 
 /// Why a step produced an invalid state, for the first offending particle (lowest index).
@@ -169,7 +173,7 @@ impl State {
     pub fn sort_if_due(&mut self) {
         let due = self.steps % tiles::SORT_INTERVAL == 0 && self.sorted_at != Some(self.steps);
         if self.tiles.is_empty() || due {
-            self.tiles = tiles::sort_particles(&self.grid, &mut self.particles);
+            self.tiles = tiles::sort_particles(&self.grid, &mut self.particles, &mut self.timings.serial);
             self.sorted_at = Some(self.steps);
         }
     }

@@ -39,6 +39,7 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
     let particles = &state.particles;
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
+    let mut serial = std::time::Duration::ZERO;
     for c in 0..COLOURS {
         let range = order.colour(c);
         order.tiles[range.clone()].par_iter().zip(order.reach[range.clone()].par_iter_mut()).for_each(|(tile, reach)| {
@@ -48,6 +49,7 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
             *reach = unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, false) };
         });
         // The particles that left their tile's zone, on this thread, in array order.
+        let serial_start = std::time::Instant::now();
         for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
             if reach.overflow {
                 // SAFETY: nothing else runs now.
@@ -55,10 +57,12 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
                 unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, true) };
             }
         }
+        serial += serial_start.elapsed();
     }
     let reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
     state.scratch.grid_region = reached.union(previous);
     state.scratch.grid_reached = reached;
+    state.timings.serial += serial.as_secs_f64();
 }
 
 /// Adds the particles `range` to the nodes: with `overflow` false, prepares each particle's

@@ -190,7 +190,8 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         displacement,
     };
     let source = if averaging {
-        cell_averaged_gradients::<F, S>(&inputs, particles, cache, gradients, cell_volume, cell_dilatation);
+        let serial = &mut state.timings.serial;
+        cell_averaged_gradients::<F, S>(&inputs, particles, cache, gradients, cell_volume, cell_dilatation, serial);
         GradientSource::CellAveraged { gradients, cell_mean_dilatation: cell_dilatation }
     } else {
         GradientSource::Stencil
@@ -286,6 +287,7 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
     gradients: &mut [[f64; 5]],
     cell_volume: &mut [f64],
     cell_dilatation: &mut [f64],
+    serial_seconds: &mut f64,
 ) {
     gradients
         .par_iter_mut()
@@ -297,6 +299,7 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
             *l = velocity_gradient::<F, S>(inputs, &domain, c);
         });
     let grid = &inputs.grid;
+    let serial_start = std::time::Instant::now();
     cell_volume.fill(0.0);
     cell_dilatation.fill(0.0);
     for ((x, &v), l) in particles.position.iter().zip(&particles.volume).zip(gradients.iter()) {
@@ -309,5 +312,6 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
             *d /= v;
         }
     }
+    *serial_seconds += serial_start.elapsed().as_secs_f64();
 }
 

@@ -151,13 +151,15 @@ fn tile_of_key(tiles: [u32; 2], key: u32) -> [u32; 2] {
 /// Sorts the particles by tile, colour by colour (a stable counting sort: particles of one
 /// tile keep their order), and returns the tiles. Not in the step's hot loops: once every
 /// [`SORT_INTERVAL`] steps, allocating the permuted arrays.
-pub fn sort_particles(grid: &GridGeometry, particles: &mut Particles) -> TileOrder {
+/// `serial_seconds` accumulates the time of the one-thread part.
+pub fn sort_particles(grid: &GridGeometry, particles: &mut Particles, serial_seconds: &mut f64) -> TileOrder {
     let n = particles.len();
     assert!(n < u32::MAX as usize, "more than 2³² − 1 particles");
     let tiles = tile_counts(grid);
     let keys: Vec<u32> = particles.position.par_iter().map(|&x| tile_key(grid, tiles, x)).collect();
     // Counting sort: bucket sizes, their starts, then each particle to the next place of its
     // bucket in array order (stable, one thread: the same order on any number of threads).
+    let serial_start = std::time::Instant::now();
     let buckets = COLOURS * (tiles[0] * tiles[1]) as usize;
     let mut start = vec![0u32; buckets + 1];
     for &k in &keys {
@@ -172,7 +174,9 @@ pub fn sort_particles(grid: &GridGeometry, particles: &mut Particles) -> TileOrd
         order[next[k as usize] as usize] = p as u32;
         next[k as usize] += 1;
     }
-    if order.iter().enumerate().any(|(k, &p)| k as u32 != p) {
+    let identity = order.iter().enumerate().all(|(k, &p)| k as u32 == p);
+    *serial_seconds += serial_start.elapsed().as_secs_f64();
+    if !identity {
         particles.permute(&order);
     }
     let tiles = (0..buckets)
