@@ -199,6 +199,7 @@ class TaichiMPM:
                 x[p] += dx[p]
 
         self.kernels = (p2g, grid_update, g2p_and_remap, remap_velocity, update_particles)
+        self.positions, self.stresses = x, stress
 
     def step(self) -> None:
         for k in self.kernels:
@@ -220,6 +221,8 @@ def main() -> int:
     p.add_argument("--steps", type=int, default=200)
     p.add_argument("--warmup", type=int, default=10)
     p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--check", action="store_true",
+                   help="first compare the two engines' displacements and stresses after --steps steps")
     args = p.parse_args()
 
     from axmpm.bench import bench_scenario
@@ -233,6 +236,19 @@ def main() -> int:
     resolved["materials"] = scenario_dict["materials"]
     peer = TaichiMPM(sim, resolved)
     n = peer.n
+    if args.check:
+        # Same step, same particles: the two results agree to the order of round-off growth.
+        x0 = np.asarray(sim.positions()).copy()
+        peer.run(args.steps)
+        sim.advance(1e9, args.steps)
+        moved = np.abs(np.asarray(sim.positions()) - x0).max()
+        dx = np.abs(peer.positions.to_numpy() - np.asarray(sim.positions())).max()
+        ds = np.abs(peer.stresses.to_numpy() - np.asarray(sim.stresses())).max()
+        scale = np.abs(np.asarray(sim.stresses())).max()
+        print(f"check after {args.steps} steps: largest displacement {moved:.3e} m, largest position "
+              f"difference {dx:.3e} m, largest stress difference {ds / scale:.2e} of the largest stress")
+        scenario, sim = axmpm_case(args.cell_size)
+        peer = TaichiMPM(sim, resolved)
     peer.run(args.warmup)  # compiles the kernels
     import taichi as ti
 
