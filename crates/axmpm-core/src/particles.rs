@@ -119,34 +119,69 @@ impl Particles {
         self.id.iter().enumerate().all(|(k, &id)| id as usize == k)
     }
 
-    /// Reorders every per-particle array: the particle at `order[k]` moves to `k`.
-    pub fn permute(&mut self, order: &[u32]) {
+    /// Reorders every per-particle array: the particle at `order[k]` moves to `k`. With
+    /// `parallel`, on the current rayon pool: the solver calls it inside the simulation's own
+    /// pool; copies for output run serially, so that they never start rayon's global pool (a
+    /// process forked after that, e.g. by a process pool, would wait forever for its threads).
+    pub fn permute(&mut self, order: &[u32], parallel: bool) {
         use rayon::prelude::*;
-        fn gather<T: Copy + Send + Sync>(v: &mut Vec<T>, order: &[u32]) {
+        fn gather<T: Copy + Send + Sync>(v: &mut Vec<T>, order: &[u32], parallel: bool) {
             if v.len() == order.len() {
-                *v = order.par_iter().map(|&k| v[k as usize]).collect();
+                *v = if parallel {
+                    order.par_iter().map(|&k| v[k as usize]).collect()
+                } else {
+                    order.iter().map(|&k| v[k as usize]).collect()
+                };
             }
         }
-        gather(&mut self.position, order);
-        gather(&mut self.velocity, order);
-        gather(&mut self.mass, order);
-        gather(&mut self.initial_volume, order);
-        gather(&mut self.volume, order);
-        gather(&mut self.initial_position, order);
-        gather(&mut self.deformation_gradient, order);
-        gather(&mut self.stress, order);
-        gather(&mut self.material, order);
-        gather(&mut self.initial_half_width, order);
-        gather(&mut self.corners, order);
-        gather(&mut self.id, order);
+        gather(&mut self.position, order, parallel);
+        gather(&mut self.velocity, order, parallel);
+        gather(&mut self.mass, order, parallel);
+        gather(&mut self.initial_volume, order, parallel);
+        gather(&mut self.volume, order, parallel);
+        gather(&mut self.initial_position, order, parallel);
+        gather(&mut self.deformation_gradient, order, parallel);
+        gather(&mut self.stress, order, parallel);
+        gather(&mut self.material, order, parallel);
+        gather(&mut self.initial_half_width, order, parallel);
+        gather(&mut self.corners, order, parallel);
+        gather(&mut self.id, order, parallel);
         let stride = self.state_stride;
         if stride > 0 && self.state.len() == order.len() * stride {
             let mut state = vec![0.0; self.state.len()];
-            state.par_chunks_mut(stride).zip(order.par_iter()).for_each(|(slots, &k)| {
+            let copy = |(slots, &k): (&mut [f64], &u32)| {
                 slots.copy_from_slice(&self.state[k as usize * stride..(k as usize + 1) * stride]);
-            });
+            };
+            if parallel {
+                state.par_chunks_mut(stride).zip(order.par_iter()).for_each(copy);
+            } else {
+                state.chunks_mut(stride).zip(order.iter()).for_each(copy);
+            }
             self.state = state;
         }
+    }
+
+    /// `values`, one per particle in array order, put in id order (a copy either way).
+    pub fn by_id<T: Copy + Default>(&self, values: &[T]) -> Vec<T> {
+        if self.id.len() != values.len() || self.in_id_order_already() {
+            return values.to_vec();
+        }
+        let mut out = vec![T::default(); values.len()];
+        for (&id, &v) in self.id.iter().zip(values) {
+            out[id as usize] = v;
+        }
+        out
+    }
+
+    /// For each id, the particle's index in the arrays.
+    pub fn index_of_ids(&self) -> Vec<u32> {
+        let mut index: Vec<u32> = (0..self.len() as u32).collect();
+        if self.id.len() == self.len() {
+            for (k, &id) in self.id.iter().enumerate() {
+                index[id as usize] = k as u32;
+            }
+        }
+        index
     }
 
     /// A copy with the particles in id order (as created), the order of everything the user
@@ -160,7 +195,7 @@ impl Particles {
             order[id as usize] = k as u32;
         }
         let mut copy = self.clone();
-        copy.permute(&order);
+        copy.permute(&order, false);
         std::borrow::Cow::Owned(copy)
     }
 

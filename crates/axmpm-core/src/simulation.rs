@@ -240,10 +240,6 @@ impl Simulation {
             timings: Default::default(),
         };
         state.allocate_scratch();
-        // A new run (or an older checkpoint) is sorted now, as part of the set-up.
-        if state.tiles.is_empty() {
-            state.sort_if_due();
-        }
         // threads = 0: as many cores as the problem can use. Below ~10,000 particles per thread
         // the fork/join of each pass costs more than it saves. Results do not depend on it.
         let threads = if threads == 0 {
@@ -256,6 +252,11 @@ impl Simulation {
             .num_threads(threads)
             .build()
             .map_err(|e| format!("could not start {threads} threads: {e}"))?;
+        // A new run (or an older checkpoint) is sorted now, as part of the set-up, on the run's
+        // own threads (never rayon's global pool: see `Particles::permute`).
+        if state.tiles.is_empty() {
+            pool.install(|| state.sort_if_due());
+        }
         let step_fn = select_step(s.formulation, s.shape_function);
         let reactions_since = state.time;
         Ok(Self {
@@ -325,6 +326,13 @@ impl Simulation {
     pub fn particles(&self) -> std::borrow::Cow<'_, Particles> {
         self.state.particles.in_id_order()
     }
+    /// One per-particle array (`field` of the particles in the solver's order), in id order:
+    /// a copy of that array only, for output.
+    pub fn particle_values<T: Copy + Default>(&self, field: impl FnOnce(&Particles) -> &[T]) -> Vec<T> {
+        let p = &self.state.particles;
+        p.by_id(field(p))
+    }
+
     /// The particles in the order the solver keeps them (sorted by grid tile; `id` gives
     /// each one's place in [`Simulation::particles`]).
     pub fn particles_in_solver_order(&self) -> &Particles {
@@ -382,7 +390,7 @@ impl Simulation {
     /// Per-particle state as rows of `state_names()` values (0 where a particle's material
     /// does not have that variable).
     pub fn state_table(&self) -> Vec<f64> {
-        let p = self.particles();
+        let p = &self.state.particles;
         let cols = self.state_names.len();
         let mut out = vec![0.0; p.len() * cols];
         let columns: Vec<Vec<usize>> = self
@@ -392,9 +400,12 @@ impl Simulation {
             .map(|m| m.state_names().iter().map(|n| self.state_names.iter().position(|s| s == n).unwrap()).collect())
             .collect();
         let stride = p.state_stride;
+        // Row `id` of the table is the particle with that id.
+        let ids = if p.id.len() == p.len() { Some(&p.id) } else { None };
         for i in 0..p.len() {
+            let row = ids.map_or(i, |ids| ids[i] as usize);
             for (k, &c) in columns[p.material[i] as usize].iter().enumerate() {
-                out[i * cols + c] = p.state[i * stride + k];
+                out[row * cols + c] = p.state[i * stride + k];
             }
         }
         out
@@ -466,13 +477,16 @@ impl Simulation {
 
     /// The energy budget ([`Energies`]), summed in particle order (deterministic).
     pub fn energies(&self) -> Energies {
-        let p = self.particles();
+        let p = &self.state.particles;
+        // Summed in id order, so the budget does not depend on the solver's particle order.
+        let index = p.index_of_ids();
         let g = self.config.simulation.gravity;
         let materials = &self.state.materials;
         let work_slot: Vec<Option<usize>> =
             materials.iter().map(|m| m.state_names().iter().position(|n| *n == "plastic_work")).collect();
         let mut e = Energies::default();
-        for i in 0..p.len() {
+        for &i in &index {
+            let i = i as usize;
             let v = p.velocity[i];
             e.kinetic_energy += 0.5 * p.mass[i] * (v[0] * v[0] + v[1] * v[1]);
             let x = p.position[i];

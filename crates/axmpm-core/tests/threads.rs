@@ -112,6 +112,18 @@ fn the_sort_is_invisible_particles_come_back_in_creation_order() {
     assert_eq!(back.mass, created.mass);
     assert_eq!(back.material, created.material);
     assert_eq!(back.id, created.id);
+    // The single-array and table accessors agree with the id-ordered copy.
+    assert_eq!(sim.particle_values(|p| &p.position), back.position);
+    assert_eq!(sim.particle_values(|p| &p.corners), back.corners);
+    let table = sim.state_table();
+    let columns = sim.state_names().len();
+    // Some state is non-zero by now (plastic flow at the toe), so rows can be told apart.
+    assert!(table.iter().any(|&v| v != 0.0));
+    for id in 0..back.len() {
+        for k in 0..columns.min(back.state_stride) {
+            assert_eq!(table[id * columns + k], back.state[id * back.state_stride + k], "state row {id}");
+        }
+    }
     // Each particle's data moved together: the solver's row k is the user's row id[k].
     for (k, &id) in sorted.id.iter().enumerate() {
         assert_eq!(sorted.position[k], back.position[id as usize]);

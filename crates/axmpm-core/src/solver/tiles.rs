@@ -177,7 +177,7 @@ pub fn sort_particles(grid: &GridGeometry, particles: &mut Particles, serial_sec
     let identity = order.iter().enumerate().all(|(k, &p)| k as u32 == p);
     *serial_seconds += serial_start.elapsed().as_secs_f64();
     if !identity {
-        particles.permute(&order);
+        particles.permute(&order, true);
     }
     let tiles = (0..buckets)
         .filter(|&b| start[b + 1] > start[b])
