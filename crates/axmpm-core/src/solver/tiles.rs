@@ -234,3 +234,80 @@ pub(super) fn zero_box<T: Copy + Default + Send + Sync>(field: &mut [T], nodes_x
         row[columns.clone()].fill(T::default());
     });
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn boxes_overlap(a: NodeBox, b: NodeBox) -> bool {
+        a.columns[0] <= b.columns[1] && b.columns[0] <= a.columns[1] && a.rows[0] <= b.rows[1] && b.rows[0] <= a.rows[1]
+    }
+
+    #[test]
+    fn zones_of_one_colour_are_disjoint_and_zones_hold_their_tiles_nodes() {
+        let tile = |a, b| Tile { coords: [a, b], start: 0, end: 1 };
+        for a in 0..6 {
+            for b in 0..6 {
+                let t = tile(a, b);
+                let z = t.zone();
+                // The tile's own cells' nodes plus HALO on every side (clipped at 0).
+                assert!(inside(NodeBox { columns: [a * TILE, a * TILE + TILE], rows: [b * TILE, b * TILE + TILE] }, z));
+                for c in 0..6 {
+                    for d in 0..6 {
+                        let u = tile(c, d);
+                        if (c, d) != (a, b) && u.colour() == t.colour() {
+                            assert!(!boxes_overlap(z, u.zone()), "{:?} {:?}", t.coords, u.coords);
+                        }
+                    }
+                }
+            }
+        }
+        // Neighbouring tiles (other colours) do share nodes: the colours are needed.
+        assert!(boxes_overlap(tile(1, 1).zone(), tile(2, 1).zone()));
+    }
+
+    #[test]
+    fn sort_groups_particles_by_tile_colour_by_colour_keeping_their_order() {
+        let grid = GridGeometry::new([0.0, 0.0], [4.0, 3.0], 0.1); // 40 × 30 cells, 5 × 4 tiles
+        let mut particles = Particles { state_stride: 1, ..Default::default() };
+        // A scattered, deterministic cloud; a few particles share a cell.
+        for k in 0..700u32 {
+            let x = [(k as f64 * 0.618_034).fract() * 3.999, (k as f64 * 0.414_214).fract() * 2.999];
+            particles.push(x, [k as f64, 0.0], 1.0, 1.0, [0.05; 2], [0.0; 4], 0);
+            particles.state[k as usize] = k as f64;
+        }
+        let mut serial = 0.0;
+        let order = sort_particles(&grid, &mut particles, &mut serial);
+        let tiles = tile_counts(&grid);
+        let mut next = 0;
+        let mut previous_colour = 0;
+        for t in &order.tiles {
+            assert_eq!(t.start, next, "tiles cover the arrays in order");
+            assert!(t.end > t.start);
+            next = t.end;
+            assert!(t.colour() >= previous_colour, "colour by colour");
+            previous_colour = t.colour();
+            for p in t.range() {
+                assert_eq!(tile_of_key(tiles, tile_key(&grid, tiles, particles.position[p])), t.coords);
+                if p > t.range().start {
+                    assert!(particles.id[p] > particles.id[p - 1], "stable within a tile");
+                }
+            }
+        }
+        assert_eq!(next as usize, particles.len());
+        for c in 0..COLOURS {
+            assert!(order.tiles[order.colour(c)].iter().all(|t| t.colour() == c));
+        }
+        // Every array moved with its particle.
+        for p in 0..particles.len() {
+            let id = particles.id[p] as f64;
+            assert_eq!(particles.velocity[p][0], id);
+            assert_eq!(particles.state[p], id);
+        }
+        // Sorting again changes nothing.
+        let before = particles.position.clone();
+        let again = sort_particles(&grid, &mut particles, &mut serial);
+        assert_eq!(particles.position, before);
+        assert_eq!(again.tiles, order.tiles);
+    }
+}
