@@ -171,7 +171,7 @@ impl State {
     /// The decision depends on the step count only, so a resumed run sorts where the
     /// uninterrupted one did.
     pub fn sort_if_due(&mut self) {
-        let due = self.steps % tiles::SORT_INTERVAL == 0 && self.sorted_at != Some(self.steps);
+        let due = self.steps.is_multiple_of(tiles::SORT_INTERVAL) && self.sorted_at != Some(self.steps);
         if self.tiles.is_empty() || due {
             self.tiles = tiles::sort_particles(&self.grid, &mut self.particles, &mut self.timings.serial);
             self.sorted_at = Some(self.steps);
