@@ -262,3 +262,22 @@ def test_run_stops_once_settled(tmp_path):
     scenario["simulation"]["end_time"] = 4.0
     full = axmpm.run(scenario, tmp_path / "full")
     assert full["stopped_at_rest"] is False and full["end_time"] == pytest.approx(4.0)
+
+
+# --------------------------------------------------------------------------- bench
+
+
+def test_bench_linear_elastic_runs_the_elastic_column() -> None:
+    result = run_cli("bench", "--material", "linear_elastic", "--cell-size", "0.005", "--steps", "2",
+                     "--warmup", "0", "--schemes", "linear", "--formulations", "plane_strain",
+                     "--threads", "1", "--json")
+    assert result.returncode == 0, result.stderr
+    (record,) = json.loads(result.stdout)["results"]
+    assert record["material"] == "linear_elastic" and record["steps"] == 2
+    # 20 × 25 cells of 5 mm, 2 × 2 particles per cell.
+    assert record["particles"] == 2000
+
+
+def test_bench_rejects_an_unknown_material() -> None:
+    result = run_cli("bench", "--material", "granite", "--steps", "1")
+    assert result.returncode == 2 and "granite" in result.stderr

@@ -5,7 +5,9 @@ column-collapse geometry (a Mohr–Coulomb cylinder released from its wall on a 
 scaled up to at least 200,000 particles, run for every interpolation scheme in both
 formulations, with one thread and with all cores. Each measurement takes ``warmup`` steps
 first (not timed), then times ``steps`` steps inside the engine, and reports the time split
-between the phases of the step as the engine measures them.
+between the phases of the step as the engine measures them. ``--material linear_elastic``
+swaps the Mohr–Coulomb sand for linear elasticity with the same density and stiffness (the
+case ``benches/peer_taichi.py`` reproduces in Taichi).
 """
 
 from __future__ import annotations
@@ -18,6 +20,10 @@ import time
 from typing import Any
 
 NAME = "bench"
+
+#: The bench materials: the Mohr–Coulomb sand, or the same density and stiffness without
+#: plasticity (the case of the peer benchmark, benches/peer_taichi.py).
+MATERIALS = ("mohr_coulomb", "linear_elastic")
 
 
 
@@ -35,14 +41,19 @@ def formulations() -> tuple[str, ...]:
     return tuple(sorted(engine_formulations()))
 
 
-def bench_scenario(formulation: str, scheme: str, cell_size: float = 0.0005) -> dict[str, Any]:
+def bench_scenario(formulation: str, scheme: str, cell_size: float = 0.0005,
+                   material: str = "mohr_coulomb") -> dict[str, Any]:
     """Column collapse scaled up: radius 0.1 m, height 0.125 m, 2×2 particles per cell.
 
     With the default 0.5 mm cells this is 200 × 250 cells × 4 = 200,000 particles on a
     0.4 m × 0.15 m grid (241,101 nodes). The confining wall at r = R is removed at t = 0,
     so the measured steps are the start of a real collapse (plastic flow at the toe).
+    With ``material="linear_elastic"`` the column is elastic (E = 1 MPa, ν = 0.3, 1550 kg/m³).
     """
     radius, height = 0.1, 0.125
+    sand: dict[str, Any] = {"model": material, "density": 1550.0, "youngs_modulus": 1.0e6, "poisson_ratio": 0.3}
+    if material == "mohr_coulomb":
+        sand.update({"friction_angle": 25.0, "dilation_angle": 0.0})
     return {
         "simulation": {
             "formulation": formulation,
@@ -55,16 +66,7 @@ def bench_scenario(formulation: str, scheme: str, cell_size: float = 0.0005) -> 
             "flip_fraction": 0.99,
         },
         "grid": {"origin": [0.0, 0.0], "extent": [0.4, 0.15], "cell_size": cell_size},
-        "materials": {
-            "sand": {
-                "model": "mohr_coulomb",
-                "density": 1550.0,
-                "youngs_modulus": 1.0e6,
-                "poisson_ratio": 0.3,
-                "friction_angle": 25.0,
-                "dilation_angle": 0.0,
-            }
-        },
+        "materials": {"sand": sand},
         "bodies": [
             {
                 "material": "sand",
@@ -82,12 +84,12 @@ def bench_scenario(formulation: str, scheme: str, cell_size: float = 0.0005) -> 
 
 
 def measure(formulation: str, scheme: str, threads: int, steps: int, warmup: int,
-            cell_size: float = 0.0005) -> dict[str, Any]:
+            cell_size: float = 0.0005, material: str = "mohr_coulomb") -> dict[str, Any]:
     """One measurement: build, take ``warmup`` steps, time ``steps`` steps."""
     from . import _core
     from .scenario import Scenario
 
-    scenario = Scenario.from_dict(bench_scenario(formulation, scheme, cell_size))
+    scenario = Scenario.from_dict(bench_scenario(formulation, scheme, cell_size, material))
     sim = _core.Simulation(scenario.engine_json(), threads)
     sim.advance(1e9, warmup)
     before = sim.timings()
@@ -100,6 +102,7 @@ def measure(formulation: str, scheme: str, threads: int, steps: int, warmup: int
     return {
         "scheme": scheme,
         "formulation": formulation,
+        "material": material,
         "threads": int(sim.threads),
         "particles": n,
         "nodes": int(sim.num_nodes),
@@ -137,6 +140,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--warmup", type=int, default=10, help="untimed steps first (default 10)")
     p.add_argument("--cell-size", type=float, default=0.0005,
                    help="m; the default 0.5 mm gives 200,000 particles")
+    p.add_argument("--material", choices=MATERIALS, default="mohr_coulomb",
+                   help="the column's material (default mohr_coulomb; linear_elastic: same density and "
+                        "stiffness, the case of benches/peer_taichi.py)")
     p.add_argument("--json", action="store_true", help='print {"results": [...]} as JSON')
 
 
@@ -169,7 +175,7 @@ def main(args: argparse.Namespace) -> int:
     for formulation in chosen_formulations:
         for scheme in chosen_schemes:
             for t in threads:
-                r = measure(formulation, scheme, t, args.steps, args.warmup, args.cell_size)
+                r = measure(formulation, scheme, t, args.steps, args.warmup, args.cell_size, args.material)
                 results.append(r)
                 if not args.json:
                     split = ", ".join(f"{k.replace('_', ' ')} {100 * v:.0f}%" for k, v in r["time_split"].items())

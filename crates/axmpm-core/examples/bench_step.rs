@@ -3,8 +3,9 @@
 //!
 //! `cargo run --release --example bench_step -- SCHEME FORMULATION THREADS STEPS [WARMUP] [CELL]`
 //!
-//! Prints the throughput and a hash of every particle array after the run (equal hashes =
-//! bit-for-bit equal results).
+//! Prints the throughput, a hash of every particle array after the run (equal hashes =
+//! bit-for-bit equal results) and the serial fraction: the share of the timed wall time spent in
+//! the parts of the step that run on one thread (`PhaseTimings::serial`).
 use axmpm_core::Simulation;
 
 fn scenario(formulation: &str, scheme: &str, cell: f64) -> String {
@@ -48,9 +49,11 @@ fn main() {
     let cell: f64 = args.get(6).map(|s| s.parse().unwrap()).unwrap_or(0.0005);
     let mut sim = Simulation::from_json(&scenario(formulation, scheme, cell), threads).unwrap();
     sim.advance(1e9, warmup).unwrap();
+    let serial_before = sim.timings().serial;
     let t = std::time::Instant::now();
     sim.advance(1e9, steps).unwrap();
     let el = t.elapsed().as_secs_f64();
+    let serial = sim.timings().serial - serial_before;
     let p = sim.particles();
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     hash(&mut h, p.position.iter().flatten().copied());
@@ -65,9 +68,11 @@ fn main() {
     hash(&mut h, p.state.iter().enumerate().filter(|(k, _)| Some(k % stride) != skip).map(|(_, v)| *v));
     hash(&mut h, p.corners.iter().flatten().flatten().copied());
     println!(
-        "{scheme} {formulation} threads={threads} N={} steps={steps} {:.3} M particle-steps/s hash={h:016x} bytes/particle={}",
+        "{scheme} {formulation} threads={threads} N={} steps={steps} {:.3} M particle-steps/s hash={h:016x} bytes/particle={} serial={:.4}",
+
         p.len(),
         steps as f64 * p.len() as f64 / el / 1e6,
-        sim.bytes_per_particle()
+        sim.bytes_per_particle(),
+        serial / el
     );
 }

@@ -33,6 +33,12 @@ pub struct Particles {
     /// Per-material state variables, `state_stride` values per particle.
     pub state: Vec<f64>,
     pub state_stride: usize,
+    /// Original number of each particle (its index when created). The solver keeps the
+    /// particles sorted by grid tile (`solver::tiles`); what the user sees is put back in id
+    /// order ([`Particles::in_id_order`]). Empty in checkpoints written before the sort
+    /// existed (then the ids are the indices).
+    #[serde(default)]
+    pub id: Vec<u32>,
 }
 
 impl Particles {
@@ -68,6 +74,7 @@ impl Particles {
         self.stress.push(stress);
         self.material.push(material);
         self.initial_half_width.push(half_width);
+        self.id.push(self.id.len() as u32);
         self.state.extend(std::iter::repeat(0.0).take(self.state_stride));
     }
 
@@ -97,6 +104,99 @@ impl Particles {
         self.initial_half_width.shrink_to_fit();
         self.corners.shrink_to_fit();
         self.state.shrink_to_fit();
+        self.id.shrink_to_fit();
+    }
+
+    /// Gives particles without ids (an older checkpoint) the ids 0, 1, 2, ...
+    pub fn ensure_ids(&mut self) {
+        if self.id.len() != self.len() {
+            self.id = (0..self.len() as u32).collect();
+        }
+    }
+
+    /// Whether every particle is at the index of its id.
+    pub fn in_id_order_already(&self) -> bool {
+        self.id.iter().enumerate().all(|(k, &id)| id as usize == k)
+    }
+
+    /// Reorders every per-particle array: the particle at `order[k]` moves to `k`. With
+    /// `parallel`, on the current rayon pool: the solver calls it inside the simulation's own
+    /// pool; copies for output run serially, so that they never start rayon's global pool (a
+    /// process forked after that, e.g. by a process pool, would wait forever for its threads).
+    pub fn permute(&mut self, order: &[u32], parallel: bool) {
+        use rayon::prelude::*;
+        fn gather<T: Copy + Send + Sync>(v: &mut Vec<T>, order: &[u32], parallel: bool) {
+            if v.len() == order.len() {
+                *v = if parallel {
+                    order.par_iter().map(|&k| v[k as usize]).collect()
+                } else {
+                    order.iter().map(|&k| v[k as usize]).collect()
+                };
+            }
+        }
+        gather(&mut self.position, order, parallel);
+        gather(&mut self.velocity, order, parallel);
+        gather(&mut self.mass, order, parallel);
+        gather(&mut self.initial_volume, order, parallel);
+        gather(&mut self.volume, order, parallel);
+        gather(&mut self.initial_position, order, parallel);
+        gather(&mut self.deformation_gradient, order, parallel);
+        gather(&mut self.stress, order, parallel);
+        gather(&mut self.material, order, parallel);
+        gather(&mut self.initial_half_width, order, parallel);
+        gather(&mut self.corners, order, parallel);
+        gather(&mut self.id, order, parallel);
+        let stride = self.state_stride;
+        if stride > 0 && self.state.len() == order.len() * stride {
+            let mut state = vec![0.0; self.state.len()];
+            let copy = |(slots, &k): (&mut [f64], &u32)| {
+                slots.copy_from_slice(&self.state[k as usize * stride..(k as usize + 1) * stride]);
+            };
+            if parallel {
+                state.par_chunks_mut(stride).zip(order.par_iter()).for_each(copy);
+            } else {
+                state.chunks_mut(stride).zip(order.iter()).for_each(copy);
+            }
+            self.state = state;
+        }
+    }
+
+    /// `values`, one per particle in array order, put in id order (a copy either way).
+    pub fn by_id<T: Copy + Default>(&self, values: &[T]) -> Vec<T> {
+        if self.id.len() != values.len() || self.in_id_order_already() {
+            return values.to_vec();
+        }
+        let mut out = vec![T::default(); values.len()];
+        for (&id, &v) in self.id.iter().zip(values) {
+            out[id as usize] = v;
+        }
+        out
+    }
+
+    /// For each id, the particle's index in the arrays.
+    pub fn index_of_ids(&self) -> Vec<u32> {
+        let mut index: Vec<u32> = (0..self.len() as u32).collect();
+        if self.id.len() == self.len() {
+            for (k, &id) in self.id.iter().enumerate() {
+                index[id as usize] = k as u32;
+            }
+        }
+        index
+    }
+
+    /// A copy with the particles in id order (as created), the order of everything the user
+    /// sees; borrowed when they are in that order already.
+    pub fn in_id_order(&self) -> std::borrow::Cow<'_, Particles> {
+        if self.id.len() != self.len() || self.in_id_order_already() {
+            return std::borrow::Cow::Borrowed(self);
+        }
+        let mut order = vec![0u32; self.len()];
+        for (k, &id) in self.id.iter().enumerate() {
+            order[id as usize] = k as u32;
+        }
+        let mut copy = self.clone();
+        copy.permute(&order, false);
+        std::borrow::Cow::Owned(copy)
     }
 
     /// Bytes held per particle by the arrays above (for the benchmark's memory figure).
@@ -114,7 +214,8 @@ impl Particles {
             + self.material.capacity() * 4
             + self.initial_half_width.capacity() * 2 * f
             + self.corners.capacity() * 8 * f
-            + self.state.capacity() * f;
+            + self.state.capacity() * f
+            + self.id.capacity() * 4;
         total / n
     }
 }

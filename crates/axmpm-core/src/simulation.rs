@@ -11,7 +11,7 @@ use crate::material::{self, Material};
 use crate::particles::Particles;
 use crate::setup::create_particles;
 use crate::interpolation::{CpGimp, Cpdi2, Linear, ShapeFunction, UGimp};
-use crate::solver::{self, Failure, Scratch, State, StepParameters};
+use crate::solver::{self, Failure, Scratch, State, StepParameters, Tile, TileOrder};
 
 type StepFn = fn(&mut State, f64, [f64; 2]) -> Result<(), Failure>;
 
@@ -78,6 +78,10 @@ struct Checkpoint {
     /// metre); absent in older checkpoints (then 0).
     #[serde(default)]
     boundary_dissipation: [f64; 2],
+    /// The particles' tiles since the last sort (`particles` are stored in that order, with
+    /// their ids); absent in older checkpoints (then the particles are sorted on resume).
+    #[serde(default)]
+    tiles: Vec<Tile>,
 }
 
 const CHECKPOINT_FORMAT: u32 = 1;
@@ -112,6 +116,18 @@ fn select_step(formulation: FormulationKind, shape: ShapeFunctionKind) -> StepFn
     }
 }
 
+/// Whether `tiles` cover the particle arrays `0..n` in order, each tile non-empty.
+fn tiles_cover(tiles: &[Tile], n: usize) -> bool {
+    let mut next = 0;
+    for t in tiles {
+        if t.start != next || t.end <= t.start {
+            return false;
+        }
+        next = t.end;
+    }
+    !tiles.is_empty() && next as usize == n
+}
+
 fn uses_corners(shape: ShapeFunctionKind) -> bool {
     match shape {
         ShapeFunctionKind::Linear => Linear::USES_CORNERS,
@@ -133,7 +149,7 @@ impl Simulation {
         Self::build(config, threads, None)
     }
 
-    fn build(config: Config, threads: usize, restored: Option<(Particles, f64, u64)>) -> Result<Self, String> {
+    fn build(config: Config, threads: usize, restored: Option<(Particles, f64, u64, Vec<Tile>)>) -> Result<Self, String> {
         config.validate()?;
         let material_names: Vec<String> = config.materials.keys().cloned().collect();
         let materials: Vec<Box<dyn Material>> = config
@@ -155,7 +171,7 @@ impl Simulation {
         let s = &config.simulation;
         let axisymmetric = s.formulation == FormulationKind::Axisymmetric;
         let with_corners = uses_corners(s.shape_function);
-        let (mut particles, time, steps) = match restored {
+        let (mut particles, time, steps, tiles) = match restored {
             Some(r) => r,
             None => {
                 let particles = match s.formulation {
@@ -166,9 +182,16 @@ impl Simulation {
                         create_particles::<Axisymmetric>(&config, &grid, &materials, &material_names, stride, with_corners)?
                     }
                 };
-                (particles, 0.0, 0)
+                (particles, 0.0, 0, Vec::new())
             }
         };
+        // Tiles belong to the order they were sorted into: without the ids, sort again.
+        let tiles = if particles.id.len() == particles.len() && tiles_cover(&tiles, particles.len()) {
+            TileOrder::from_tiles(tiles)
+        } else {
+            TileOrder::default()
+        };
+        particles.ensure_ids();
         particles.shrink_to_fit();
         if particles.is_empty() {
             return Err("bodies: no particle was created (is every body at least one cell in size?)".into());
@@ -204,7 +227,8 @@ impl Simulation {
         let mut state = State {
             grid,
             fields: GridFields::new(grid.num_nodes()),
-            lanes: Vec::new(),
+            tiles,
+            sorted_at: None,
             scratch: Scratch::default(),
             particles,
             state_lengths: materials.iter().map(|m| m.state_names().len()).collect(),
@@ -228,6 +252,11 @@ impl Simulation {
             .num_threads(threads)
             .build()
             .map_err(|e| format!("could not start {threads} threads: {e}"))?;
+        // A new run (or an older checkpoint) is sorted now, as part of the set-up, on the run's
+        // own threads (never rayon's global pool: see `Particles::permute`).
+        if state.tiles.is_empty() {
+            pool.install(|| state.sort_if_due());
+        }
         let step_fn = select_step(s.formulation, s.shape_function);
         let reactions_since = state.time;
         Ok(Self {
@@ -280,6 +309,7 @@ impl Simulation {
             }
             taken += 1;
             if let Err(failure) = result {
+                let failure = failure.with_id(&self.state.particles.id);
                 let f = SimulationFailure { message: failure.message(), time: self.state.time, steps: self.state.steps };
                 self.failure = Some(f.clone());
                 return Err(f);
@@ -291,7 +321,21 @@ impl Simulation {
     pub fn config(&self) -> &Config {
         &self.config
     }
-    pub fn particles(&self) -> &Particles {
+    /// The particles in id order (the order they were created in), whatever order the
+    /// solver keeps them in (a copy when that differs).
+    pub fn particles(&self) -> std::borrow::Cow<'_, Particles> {
+        self.state.particles.in_id_order()
+    }
+    /// One per-particle array (`field` of the particles in the solver's order), in id order:
+    /// a copy of that array only, for output.
+    pub fn particle_values<T: Copy + Default>(&self, field: impl FnOnce(&Particles) -> &[T]) -> Vec<T> {
+        let p = &self.state.particles;
+        p.by_id(field(p))
+    }
+
+    /// The particles in the order the solver keeps them (sorted by grid tile; `id` gives
+    /// each one's place in [`Simulation::particles`]).
+    pub fn particles_in_solver_order(&self) -> &Particles {
         &self.state.particles
     }
     pub fn grid(&self) -> &GridGeometry {
@@ -312,7 +356,7 @@ impl Simulation {
     }
     /// Bytes held per particle: the particle arrays plus the per-particle scratch of the step
     /// (position increments, the scheme's stencil cache and, with cell averaging, the velocity
-    /// gradients; the grid and its lanes are counted separately, per node).
+    /// gradients; the grid is counted separately, per node; the scatter needs no nodal buffers of its own).
     pub fn bytes_per_particle(&self) -> usize {
         let n = self.state.particles.len().max(1);
         let sc = &self.state.scratch;
@@ -356,9 +400,12 @@ impl Simulation {
             .map(|m| m.state_names().iter().map(|n| self.state_names.iter().position(|s| s == n).unwrap()).collect())
             .collect();
         let stride = p.state_stride;
+        // Row `id` of the table is the particle with that id.
+        let ids = if p.id.len() == p.len() { Some(&p.id) } else { None };
         for i in 0..p.len() {
+            let row = ids.map_or(i, |ids| ids[i] as usize);
             for (k, &c) in columns[p.material[i] as usize].iter().enumerate() {
-                out[i * cols + c] = p.state[i * stride + k];
+                out[row * cols + c] = p.state[i * stride + k];
             }
         }
         out
@@ -431,12 +478,15 @@ impl Simulation {
     /// The energy budget ([`Energies`]), summed in particle order (deterministic).
     pub fn energies(&self) -> Energies {
         let p = &self.state.particles;
+        // Summed in id order, so the budget does not depend on the solver's particle order.
+        let index = p.index_of_ids();
         let g = self.config.simulation.gravity;
         let materials = &self.state.materials;
         let work_slot: Vec<Option<usize>> =
             materials.iter().map(|m| m.state_names().iter().position(|n| *n == "plastic_work")).collect();
         let mut e = Energies::default();
-        for i in 0..p.len() {
+        for &i in &index {
+            let i = i as usize;
             let v = p.velocity[i];
             e.kinetic_energy += 0.5 * p.mass[i] * (v[0] * v[0] + v[1] * v[1]);
             let x = p.position[i];
@@ -468,6 +518,7 @@ impl Simulation {
             time: self.state.time,
             steps: self.state.steps,
             boundary_dissipation: self.state.constraints.dissipated_energy(),
+            tiles: self.state.tiles.tiles.clone(),
         };
         serde_json::to_vec(&checkpoint).map_err(|e| format!("checkpoint: {e}"))
     }
@@ -478,7 +529,7 @@ impl Simulation {
         if c.format != CHECKPOINT_FORMAT {
             return Err(format!("checkpoint format {} is not supported (expected {CHECKPOINT_FORMAT})", c.format));
         }
-        let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps)))?;
+        let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps, c.tiles)))?;
         sim.state.constraints.restored_dissipation = c.boundary_dissipation;
         Ok(sim)
     }

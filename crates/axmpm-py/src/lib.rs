@@ -72,7 +72,7 @@ impl PySimulation {
     }
     #[getter]
     fn num_particles(&self) -> usize {
-        self.inner.particles().len()
+        self.inner.particles_in_solver_order().len()
     }
     #[getter]
     fn num_nodes(&self) -> usize {
@@ -89,44 +89,49 @@ impl PySimulation {
     }
 
     fn positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p = self.inner.particles();
-        rows(py, p.position.iter().copied(), p.len())
+        let v = self.inner.particle_values(|p| &p.position);
+        let n = v.len();
+        rows(py, v.into_iter(), n)
     }
     fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p = self.inner.particles();
-        rows(py, p.velocity.iter().copied(), p.len())
+        let v = self.inner.particle_values(|p| &p.velocity);
+        let n = v.len();
+        rows(py, v.into_iter(), n)
     }
     fn initial_positions<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p = self.inner.particles();
-        rows(py, p.initial_position.iter().copied(), p.len())
+        let v = self.inner.particle_values(|p| &p.initial_position);
+        let n = v.len();
+        rows(py, v.into_iter(), n)
     }
     /// (N, 4): [xx, yy, zz, xy] plane strain, [rr, zz, θθ, rz] axisymmetric.
     fn stresses<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p = self.inner.particles();
-        rows(py, p.stress.iter().copied(), p.len())
+        let v = self.inner.particle_values(|p| &p.stress);
+        let n = v.len();
+        rows(py, v.into_iter(), n)
     }
     /// (N, 5): [F11, F12, F21, F22, F33].
     fn deformation_gradients<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p = self.inner.particles();
-        rows(py, p.deformation_gradient.iter().copied(), p.len())
+        let v = self.inner.particle_values(|p| &p.deformation_gradient);
+        let n = v.len();
+        rows(py, v.into_iter(), n)
     }
     /// (N, 8): corners [x1, y1, ..., x4, y4] counter-clockwise (CPDI2; empty otherwise).
     fn corners<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let p = self.inner.particles();
-        let n = p.corners.len();
-        rows(py, p.corners.iter().map(|c| [c[0][0], c[0][1], c[1][0], c[1][1], c[2][0], c[2][1], c[3][0], c[3][1]]), n)
+        let v = self.inner.particle_values(|p| &p.corners);
+        let n = v.len();
+        rows(py, v.iter().map(|c| [c[0][0], c[0][1], c[1][0], c[1][1], c[2][0], c[2][1], c[3][0], c[3][1]]), n)
     }
     fn volumes<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
-        self.inner.particles().volume.clone().into_pyarray(py)
+        self.inner.particle_values(|p| &p.volume).into_pyarray(py)
     }
     fn initial_volumes<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
-        self.inner.particles().initial_volume.clone().into_pyarray(py)
+        self.inner.particle_values(|p| &p.initial_volume).into_pyarray(py)
     }
     fn masses<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
-        self.inner.particles().mass.clone().into_pyarray(py)
+        self.inner.particle_values(|p| &p.mass).into_pyarray(py)
     }
     fn material_ids<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<i32>> {
-        self.inner.particles().material.iter().map(|&m| m as i32).collect::<Vec<_>>().into_pyarray(py)
+        self.inner.particle_values(|p| &p.material).iter().map(|&m| m as i32).collect::<Vec<_>>().into_pyarray(py)
     }
     fn material_names(&self) -> Vec<String> {
         self.inner.material_names().to_vec()
@@ -136,7 +141,7 @@ impl PySimulation {
     }
     /// (N, len(state_names())).
     fn state<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let n = self.inner.particles().len();
+        let n = self.inner.particles_in_solver_order().len();
         let k = self.inner.state_names().len();
         self.inner.state_table().into_pyarray(py).reshape([n, k])
     }

@@ -6,93 +6,142 @@
 use rayon::prelude::*;
 
 use super::grid_update::remap_velocity;
-use super::lanes::{lane_length, sum_lanes};
+use super::tiles::{inside, zero_box, Shared, COLOURS};
 use super::State;
 use crate::config::UpdateScheme;
 use crate::formulation::Formulation;
+use crate::grid::{GridGeometry, NodeBox};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
 use crate::particles::Particles;
 
+/// What one tile of grid → particle reads and writes.
+#[derive(Clone, Copy)]
+struct Pass<'a> {
+    grid: GridGeometry,
+    flip: f64,
+    dt: f64,
+    velocity_new: &'a [[f64; 2]],
+    velocity_old: &'a [[f64; 2]],
+    /// The momentum the MUSL re-map adds to (`None`: USL, no re-map).
+    momentum: Option<Shared<[f64; 2]>>,
+}
+
 /// New particle velocities (PIC/FLIP blend) and position increments; with MUSL the new
-/// momentum is scattered back to the grid in the same pass (same stencil, same lanes).
+/// momentum is scattered back to the grid in the same pass (same stencils, same tiles and
+/// colours as particle → grid).
 #[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, cache: &[S::Cache]) {
-    let grid = &state.grid;
-    let fields = &state.fields;
-    let flip = state.parameters.flip_fraction;
     let musl = state.parameters.scheme == UpdateScheme::Musl;
-    // Velocities are updated in place (each particle reads only its own); the rest is read only.
-    let Particles { velocity, position, initial_half_width, deformation_gradient, corners, mass, .. } =
-        &mut state.particles;
-    let (position, initial_half_width, deformation_gradient, corners, mass) =
-        (&*position, &*initial_half_width, &*deformation_gradient, &*corners, &*mass);
-    let len = lane_length(velocity.len());
-    velocity
-        .par_chunks_mut(len)
-        .zip(state.scratch.displacement.par_chunks_mut(len))
-        .zip(state.lanes.par_iter_mut())
-        .enumerate()
-        .for_each(|(k, ((velocity_io, displacement_out), lane))| {
-            // The MUSL re-map scatters the same stencils as particle → grid, so it reaches the
-            // same node box: kept instead of grown again particle by particle.
-            let reached = lane.touched;
-            if musl {
-                lane.clear(grid.nodes[0]);
-            }
-            // Local copies and slices, kept in registers across the nodal stores (see P2G).
-            let (grid, flip, dt, musl) = (*grid, flip, dt, musl);
-            let (velocity_new, velocity_old) = (&fields.velocity_new[..], &fields.velocity[..]);
-            let nodes = &mut lane.nodes[..];
-            let corners: &[[[f64; 2]; 4]] = corners;
-            // The lane's particles as slices of one length (no bounds checks in the loop).
-            let n = velocity_io.len();
-            let first = k * len;
-            let position = &position[first..first + n];
-            let initial_half_width = &initial_half_width[first..first + n];
-            let deformation_gradient = &deformation_gradient[first..first + n];
-            let mass = &mass[first..first + n];
-            let cache = &cache[first..first + n];
-            for (i, (v_io, dx)) in velocity_io.iter_mut().zip(displacement_out.iter_mut()).enumerate() {
-                let domain = ParticleDomain {
-                    position: position[i],
-                    initial_half_width: initial_half_width[i],
-                    deformation_gradient: &deformation_gradient[i],
-                    corners: corners.get(first + i),
-                };
-                let mut v_grid = [0.0; 2];
-                let mut dv = [0.0; 2];
-                S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
-                    let vn = velocity_new[node];
-                    let vo = velocity_old[node];
-                    v_grid[0] += w * vn[0];
-                    v_grid[1] += w * vn[1];
-                    dv[0] += w * (vn[0] - vo[0]);
-                    dv[1] += w * (vn[1] - vo[1]);
-                });
-                let v = *v_io;
-                let v_new = [
-                    flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
-                    flip * (v[1] + dv[1]) + (1.0 - flip) * v_grid[1],
-                ];
-                *v_io = v_new;
-                *dx = [dt * v_grid[0], dt * v_grid[1]];
-                if musl {
-                    let m = mass[i];
-                    S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
-                        let sums = &mut nodes[node];
-                        let wm = w * m;
-                        sums.momentum[0] += wm * v_new[0];
-                        sums.momentum[1] += wm * v_new[1];
-                    });
+    let nodes_x = state.grid.nodes[0];
+    // The re-map reaches the nodes particle → grid reached; elsewhere the momentum is +0.
+    if musl {
+        zero_box(&mut state.fields.momentum, nodes_x, state.scratch.grid_reached);
+    }
+    let fields = &mut state.fields;
+    let pass = Pass {
+        grid: state.grid,
+        flip: state.parameters.flip_fraction,
+        dt,
+        momentum: if musl { Some(Shared::new(&mut fields.momentum)) } else { None },
+        velocity_new: &fields.velocity_new,
+        velocity_old: &fields.velocity,
+    };
+    let velocities = Shared::new(&mut state.particles.velocity);
+    let displacements = Shared::new(&mut state.scratch.displacement);
+    let particles = &state.particles;
+    let order = &state.tiles;
+    let mut serial = std::time::Duration::ZERO;
+    for c in 0..COLOURS {
+        let range = order.colour(c);
+        order.tiles[range.clone()].par_iter().zip(&order.reach[range.clone()]).for_each(|(tile, reach)| {
+            // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only
+            // to nodes inside its zone, and zones of one colour are disjoint.
+            let (v, dx) = unsafe { (velocities.slice(tile.range()), displacements.slice(tile.range())) };
+            let zone = if reach.overflow { Some(tile.zone()) } else { None };
+            unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, zone, v, dx, false) };
+        });
+        if musl {
+            // The particles that left their tile's zone re-map on this thread, in array order.
+            let serial_start = std::time::Instant::now();
+            for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
+                if reach.overflow {
+                    // SAFETY: nothing else runs now.
+                    let (v, dx) = unsafe { (velocities.slice(tile.range()), displacements.slice(tile.range())) };
+                    unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, Some(tile.zone()), v, dx, true) };
                 }
             }
-            if musl {
-                lane.touched = reached;
-            }
-        });
+            serial += serial_start.elapsed();
+        }
+    }
+    state.timings.serial += serial.as_secs_f64();
     if musl {
-        sum_lanes(&state.lanes, grid.nodes[0], state.scratch.grid_region, &mut state.fields, false);
         remap_velocity(state, dt);
     }
 }
 
+/// Velocity and position increment of the particles `range` (with `overflow` false), and the
+/// MUSL re-map of those whose stencil stays in `zone` (`None`: all of them stay). With
+/// `overflow` true: only the re-map of the others, after the colour's parallel part.
+/// SAFETY: no other thread writes to the nodes this call writes to (see [`super::tiles`]).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+unsafe fn gather<F: Formulation, S: ShapeFunction>(
+    pass: &Pass,
+    particles: &Particles,
+    range: std::ops::Range<usize>,
+    cache: &[S::Cache],
+    zone: Option<NodeBox>,
+    velocity_io: &mut [[f64; 2]],
+    displacement_out: &mut [[f64; 2]],
+    overflow: bool,
+) {
+    // Local copies and slices, kept in registers across the nodal stores (see P2G).
+    let Pass { grid, flip, dt, velocity_new, velocity_old, momentum } = *pass;
+    let corners: &[[[f64; 2]; 4]] = &particles.corners;
+    // The tile's particles as slices of one length (no bounds checks in the loop).
+    let n = velocity_io.len();
+    let first = range.start;
+    let position = &particles.position[first..first + n];
+    let initial_half_width = &particles.initial_half_width[first..first + n];
+    let deformation_gradient = &particles.deformation_gradient[first..first + n];
+    let mass = &particles.mass[first..first + n];
+    let cache = &cache[first..first + n];
+    for (i, (v_io, dx)) in velocity_io.iter_mut().zip(displacement_out[..n].iter_mut()).enumerate() {
+        let domain = ParticleDomain {
+            position: position[i],
+            initial_half_width: initial_half_width[i],
+            deformation_gradient: &deformation_gradient[i],
+            corners: corners.get(first + i),
+        };
+        let in_zone = zone.is_none_or(|z| inside(S::node_box(&grid, &cache[i], &domain), z));
+        if !overflow {
+            let mut v_grid = [0.0; 2];
+            let mut dv = [0.0; 2];
+            S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
+                let vn = velocity_new[node];
+                let vo = velocity_old[node];
+                v_grid[0] += w * vn[0];
+                v_grid[1] += w * vn[1];
+                dv[0] += w * (vn[0] - vo[0]);
+                dv[1] += w * (vn[1] - vo[1]);
+            });
+            let v = *v_io;
+            *v_io = [
+                flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
+                flip * (v[1] + dv[1]) + (1.0 - flip) * v_grid[1],
+            ];
+            *dx = [dt * v_grid[0], dt * v_grid[1]];
+        }
+        if let Some(momentum) = momentum {
+            if in_zone != overflow {
+                let m = mass[i];
+                let mv = [m * v_io[0], m * v_io[1]];
+                S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, move |node, w, _| {
+                    let p = momentum.at(node);
+                    p[0] += w * mv[0];
+                    p[1] += w * mv[1];
+                });
+            }
+        }
+    }
+}

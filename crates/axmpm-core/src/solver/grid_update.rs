@@ -56,6 +56,7 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
     // Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
     // field; rigid bodies excepted, see `constraint/rigid_body.rs`), then on v⁺: that
     // correction is the physical one, recorded as the reaction.
+    let serial_start = std::time::Instant::now();
     let context = NodalContext {
         grid: &state.grid,
         mass: &fields.mass,
@@ -65,6 +66,7 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
     };
     state.constraints.apply_start_of_step(&context, &mut fields.velocity);
     state.constraints.apply(&context, &mut fields.velocity_new, true);
+    state.timings.serial += serial_start.elapsed().as_secs_f64();
 }
 
 #[inline(always)]
@@ -100,6 +102,7 @@ pub(super) fn remap_velocity(state: &mut State, dt: f64) {
                 *v = if m > 0.0 { [p[0] / m, p[1] / m] } else { [0.0; 2] };
             }
         });
+    let serial_start = std::time::Instant::now();
     let context = NodalContext {
         grid: &state.grid,
         mass: &fields.mass,
@@ -108,5 +111,6 @@ pub(super) fn remap_velocity(state: &mut State, dt: f64) {
         axisymmetric: state.parameters.axisymmetric,
     };
     state.constraints.apply(&context, &mut fields.velocity, false);
+    state.timings.serial += serial_start.elapsed().as_secs_f64();
 }
 

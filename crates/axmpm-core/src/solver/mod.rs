@@ -9,7 +9,8 @@
 //!    momentum (Sulsky, Zhou & Schreyer 1995; USL skips it), constraints;
 //! 4. [`particle_update`]: L, F, volume, stress by the material, positions and CPDI corners.
 //!
-//! [`lanes`] makes the scatter of passes 1 and 3 race free and independent of the thread
+//! Every [`tiles::SORT_INTERVAL`] steps the particles are first sorted by grid tile;
+//! [`tiles`] makes the scatter of passes 1 and 3 race free and independent of the thread
 //! count; every other pass writes only its own particle or node. Results are therefore
 //! bit-for-bit identical for any number of threads.
 
@@ -23,11 +24,11 @@ use crate::particles::Particles;
 
 pub mod grid_to_particle;
 pub mod grid_update;
-pub mod lanes;
 pub mod particle_to_grid;
 pub mod particle_update;
+pub mod tiles;
 
-pub use lanes::{Lane, NodalSums, LANES};
+pub use tiles::{Tile, TileOrder};
 
 /// Per-particle scratch arrays reused every step (no allocation in the step loop).
 #[derive(Default)]
@@ -68,7 +69,11 @@ pub struct StepParameters {
 pub struct State {
     pub grid: GridGeometry,
     pub fields: GridFields,
-    pub lanes: Vec<Lane>,
+    /// The particles' tiles since the last sort (empty: sort before the next step).
+    pub tiles: TileOrder,
+    /// The step count at the last sort, when this object made it (a sort at that count again
+    /// would change nothing: the sort is stable and idempotent).
+    pub sorted_at: Option<u64>,
     pub scratch: Scratch,
     pub particles: Particles,
     pub materials: Vec<Box<dyn Material>>,
@@ -90,6 +95,10 @@ pub struct PhaseTimings {
     pub grid_update: f64,
     pub grid_to_particle: f64,
     pub constitutive_update: f64,
+    /// Of the time above, the parts that run on one thread whatever the thread count: the
+    /// sort's counting, the scatter's particles outside their tile's zone, the constraints,
+    /// the cell averages' sums (for the serial fraction of `axmpm bench`'s notes).
+    pub serial: f64,
 }
 
 /// Why a step produced an invalid state, for the first offending particle (lowest index).
@@ -106,6 +115,18 @@ impl Failure {
             Failure::NotFinite { particle }
             | Failure::LeftGrid { particle, .. }
             | Failure::InvertedJacobian { particle, .. } => *particle,
+        }
+    }
+
+    /// The same failure naming the particle by its id instead of its index in the arrays.
+    pub fn with_id(self, ids: &[u32]) -> Self {
+        let id = |p: usize| ids.get(p).map_or(p, |&id| id as usize);
+        match self {
+            Failure::NotFinite { particle } => Failure::NotFinite { particle: id(particle) },
+            Failure::LeftGrid { particle, position } => Failure::LeftGrid { particle: id(particle), position },
+            Failure::InvertedJacobian { particle, jacobian } => {
+                Failure::InvertedJacobian { particle: id(particle), jacobian }
+            }
         }
     }
 
@@ -143,15 +164,28 @@ impl State {
             self.scratch.cell_volume = vec![0.0; cells];
             self.scratch.cell_dilatation = vec![0.0; cells];
         }
-        self.lanes = (0..LANES).map(|_| Lane::new(self.grid.num_nodes())).collect();
+    }
+
+    /// Sorts the particles by tile when due: every [`tiles::SORT_INTERVAL`] steps, and when
+    /// no tiles are known (a new run, or a checkpoint written before the sort existed).
+    /// The decision depends on the step count only, so a resumed run sorts where the
+    /// uninterrupted one did.
+    pub fn sort_if_due(&mut self) {
+        let due = self.steps.is_multiple_of(tiles::SORT_INTERVAL) && self.sorted_at != Some(self.steps);
+        if self.tiles.is_empty() || due {
+            self.tiles = tiles::sort_particles(&self.grid, &mut self.particles, &mut self.timings.serial);
+            self.sorted_at = Some(self.steps);
+        }
     }
 }
 
 /// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
 /// any (the state is then left as computed, for inspection).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
-    let mut cache = take_stencil_cache::<S>(state);
     let t0 = std::time::Instant::now();
+    // Counted in particle → grid's time: the sort is there for the scatter.
+    state.sort_if_due();
+    let mut cache = take_stencil_cache::<S>(state);
     // m_i, p_i and f_i = f_int + f_ext from the particles.
     particle_to_grid::particle_to_grid::<F, S>(state, gravity, &mut cache);
     let t1 = std::time::Instant::now();

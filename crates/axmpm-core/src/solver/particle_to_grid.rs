@@ -5,68 +5,138 @@
 
 use rayon::prelude::*;
 
-use super::lanes::{lane_length, sum_lanes};
+use super::tiles::{inside, zero_box, Shared, TileReach, COLOURS};
 use super::State;
 use crate::formulation::Formulation;
-use crate::grid::NodeBox;
+use crate::grid::{GridGeometry, NodeBox};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
+use crate::particles::Particles;
 
-/// Scatters mass, momentum, internal and gravity forces to the nodes, lane by lane, then sums
-/// the lanes in a fixed order. Computes each particle's stencil cache for the step.
-#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
-pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], cache: &mut [S::Cache]) {
-    let particles = &state.particles;
-    let grid = &state.grid;
-    let len = lane_length(particles.len());
-    let nodes_x = grid.nodes[0];
-    cache.par_chunks_mut(len).zip(state.lanes.par_iter_mut()).enumerate().for_each(|(k, (lane_cache, lane))| {
-        lane.clear(nodes_x);
-        let mut touched = NodeBox::EMPTY;
-        // Local copies of what the loop reads and slices of what it writes: the compiler then
-        // keeps them in registers instead of reloading them after every nodal store (which it
-        // cannot prove does not alias them).
-        let (grid, gravity) = (*grid, gravity);
-        let nodes = &mut lane.nodes[..];
-        let corners = &particles.corners[..];
-        // The lane's particles as slices of one length, so the loop indexes without bounds checks.
-        let n = lane_cache.len();
-        let first = k * len;
-        let position = &particles.position[first..first + n];
-        let initial_half_width = &particles.initial_half_width[first..first + n];
-        let deformation_gradient = &particles.deformation_gradient[first..first + n];
-        let mass = &particles.mass[first..first + n];
-        let velocity = &particles.velocity[first..first + n];
-        let volume = &particles.volume[first..first + n];
-        let stress = &particles.stress[first..first + n];
-        for (i, c) in lane_cache.iter_mut().enumerate() {
-            let domain = ParticleDomain {
-                position: position[i],
-                initial_half_width: initial_half_width[i],
-                deformation_gradient: &deformation_gradient[i],
-                corners: corners.get(first + i),
-            };
-            S::prepare(&grid, &domain, F::AXISYMMETRIC, c);
-            touched = touched.union(S::node_box(&grid, c, &domain));
-            let m = mass[i];
-            let v = velocity[i];
-            let vol = volume[i];
-            let s = stress[i];
-            let hoop = F::hoop_factor(position[i]);
-            S::visit_entries(&grid, c, &domain, F::AXISYMMETRIC, |node, w, g| {
-                let sums = &mut nodes[node];
-                sums.mass += w * m;
-                sums.momentum[0] += w * m * v[0];
-                sums.momentum[1] += w * m * v[1];
-                // Internal force (Sulsky & Schreyer 1996, docs/physics.md §2) plus gravity.
-                sums.force[0] += -vol * (s[0] * g[0] + s[3] * g[1] + s[2] * w * hoop) + w * m * gravity[0];
-                sums.force[1] += -vol * (s[3] * g[0] + s[1] * g[1]) + w * m * gravity[1];
-            });
-        }
-        lane.touched = touched;
-    });
-    let reached = state.lanes.iter().fold(NodeBox::EMPTY, |b, lane| b.union(lane.touched));
-    state.scratch.grid_region = reached.union(state.scratch.grid_reached);
-    state.scratch.grid_reached = reached;
-    sum_lanes(&state.lanes, grid.nodes[0], state.scratch.grid_region, &mut state.fields, true);
+/// The grid fields particle → grid adds to, shared by the tiles of one colour (disjoint zones).
+#[derive(Clone, Copy)]
+struct NodalTargets {
+    mass: Shared<f64>,
+    momentum: Shared<[f64; 2]>,
+    force: Shared<[f64; 2]>,
 }
 
+/// Scatters mass, momentum, internal and gravity forces to the nodes tile by tile, colour by
+/// colour (see [`super::tiles`]). Computes each particle's stencil cache for the step.
+#[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
+pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], cache: &mut [S::Cache]) {
+    let grid = state.grid;
+    let nodes_x = grid.nodes[0];
+    // Every field is +0 outside the nodes the particles reached last step.
+    let previous = state.scratch.grid_reached;
+    zero_box(&mut state.fields.mass, nodes_x, previous);
+    zero_box(&mut state.fields.momentum, nodes_x, previous);
+    zero_box(&mut state.fields.force, nodes_x, previous);
+    let targets = NodalTargets {
+        mass: Shared::new(&mut state.fields.mass),
+        momentum: Shared::new(&mut state.fields.momentum),
+        force: Shared::new(&mut state.fields.force),
+    };
+    let particles = &state.particles;
+    let order = &mut state.tiles;
+    let caches = Shared::new(cache);
+    let mut serial = std::time::Duration::ZERO;
+    for c in 0..COLOURS {
+        let range = order.colour(c);
+        order.tiles[range.clone()].par_iter().zip(order.reach[range.clone()].par_iter_mut()).for_each(|(tile, reach)| {
+            // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only
+            // to nodes inside its zone, and zones of one colour are disjoint.
+            let cache = unsafe { caches.slice(tile.range()) };
+            *reach = unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, false) };
+        });
+        // The particles that left their tile's zone, on this thread, in array order.
+        let serial_start = std::time::Instant::now();
+        for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
+            if reach.overflow {
+                // SAFETY: nothing else runs now.
+                let cache = unsafe { caches.slice(tile.range()) };
+                unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, true) };
+            }
+        }
+        serial += serial_start.elapsed();
+    }
+    let reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
+    state.scratch.grid_region = reached.union(previous);
+    state.scratch.grid_reached = reached;
+    state.timings.serial += serial.as_secs_f64();
+}
+
+/// Adds the particles `range` to the nodes: with `overflow` false, prepares each particle's
+/// stencil cache and adds the particles whose stencil stays in `zone`; with `overflow` true
+/// (after the colour's parallel part), adds the others.
+/// SAFETY: no other thread writes to the nodes this call writes to (see [`super::tiles`]).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+unsafe fn scatter<F: Formulation, S: ShapeFunction>(
+    grid: &GridGeometry,
+    gravity: [f64; 2],
+    particles: &Particles,
+    range: std::ops::Range<usize>,
+    zone: NodeBox,
+    cache: &mut [S::Cache],
+    targets: NodalTargets,
+    overflow: bool,
+) -> TileReach {
+    let mut reach = TileReach::default();
+    // Local copies of what the loop reads: the compiler then keeps them in registers instead
+    // of reloading them after every nodal store (which it cannot prove does not alias them).
+    let (grid, gravity) = (*grid, gravity);
+    let corners = &particles.corners[..];
+    // The tile's particles as slices of one length, so the loop indexes without bounds checks.
+    let n = cache.len();
+    let first = range.start;
+    let position = &particles.position[range.clone()];
+    let initial_half_width = &particles.initial_half_width[range.clone()];
+    let deformation_gradient = &particles.deformation_gradient[range.clone()];
+    let mass = &particles.mass[range.clone()];
+    let velocity = &particles.velocity[range.clone()];
+    let volume = &particles.volume[range.clone()];
+    let stress = &particles.stress[range];
+    for (i, c) in cache[..n].iter_mut().enumerate() {
+        let domain = ParticleDomain {
+            position: position[i],
+            initial_half_width: initial_half_width[i],
+            deformation_gradient: &deformation_gradient[i],
+            corners: corners.get(first + i),
+        };
+        if !overflow {
+            S::prepare(&grid, &domain, F::AXISYMMETRIC, c);
+        }
+        let node_box = S::node_box(&grid, c, &domain);
+        let in_zone = inside(node_box, zone);
+        if !overflow {
+            reach.reached = reach.reached.union(node_box);
+            reach.overflow |= !in_zone;
+        }
+        if in_zone == overflow {
+            continue;
+        }
+        // What every node of the particle shares, formed once per particle: m v, −V σ and
+        // the body force m g (with the hoop term −V σ_θθ S / R_p, also linear in S).
+        let m = mass[i];
+        let v = velocity[i];
+        let vol = volume[i];
+        let s = stress[i];
+        let momentum = [m * v[0], m * v[1]];
+        let minus_vs = [-vol * s[0], -vol * s[1], -vol * s[3]];
+        let body = [m * gravity[0] - vol * s[2] * F::hoop_factor(position[i]), m * gravity[1]];
+        // `move`: the closure holds its own copies of the pointers and values, which the
+        // compiler keeps in registers (captured by reference, it reloads them after every
+        // store through the pointers, which it cannot prove do not alias them).
+        S::visit_entries(&grid, c, &domain, F::AXISYMMETRIC, move |node, w, g| {
+            *targets.mass.at(node) += w * m;
+            let p = targets.momentum.at(node);
+            p[0] += w * momentum[0];
+            p[1] += w * momentum[1];
+            // Internal force −V σ·∇S (Sulsky & Schreyer 1996, docs/physics.md §2) plus gravity.
+            let f = targets.force.at(node);
+            f[0] += minus_vs[0] * g[0] + minus_vs[2] * g[1] + w * body[0];
+            f[1] += minus_vs[2] * g[0] + minus_vs[1] * g[1] + w * body[1];
+        });
+    }
+    reach
+}

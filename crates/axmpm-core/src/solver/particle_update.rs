@@ -128,10 +128,11 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     let material = &inputs.materials[inputs.material_ids[p] as usize];
     material.update_stress(u.stress, u.state, &kinematics);
 
-    let finite = x[0].is_finite()
-        && x[1].is_finite()
-        && u.stress.iter().all(|s| s.is_finite())
-        && inputs.velocity[p].iter().all(|v| v.is_finite());
+    // All finite at once: x · 0 is ±0 for a finite x and NaN for ±∞ or NaN, so the sum of
+    // the products is zero exactly when every value is finite (one test instead of eight).
+    let (s, v) = (*u.stress, inputs.velocity[p]);
+    let zeros = [x[0], x[1], s[0], s[1], s[2], s[3], v[0], v[1]].map(|c| c * 0.0);
+    let finite = zeros.iter().sum::<f64>() == 0.0;
     if !finite {
         Some(Failure::NotFinite { particle: p })
     } else if !grid.contains(*x) || (F::AXISYMMETRIC && x[0] <= 0.0) {
@@ -189,7 +190,8 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         displacement,
     };
     let source = if averaging {
-        cell_averaged_gradients::<F, S>(&inputs, particles, cache, gradients, cell_volume, cell_dilatation);
+        let serial = &mut state.timings.serial;
+        cell_averaged_gradients::<F, S>(&inputs, particles, cache, gradients, cell_volume, cell_dilatation, serial);
         GradientSource::CellAveraged { gradients, cell_mean_dilatation: cell_dilatation }
     } else {
         GradientSource::Stencil
@@ -285,6 +287,7 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
     gradients: &mut [[f64; 5]],
     cell_volume: &mut [f64],
     cell_dilatation: &mut [f64],
+    serial_seconds: &mut f64,
 ) {
     gradients
         .par_iter_mut()
@@ -296,6 +299,7 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
             *l = velocity_gradient::<F, S>(inputs, &domain, c);
         });
     let grid = &inputs.grid;
+    let serial_start = std::time::Instant::now();
     cell_volume.fill(0.0);
     cell_dilatation.fill(0.0);
     for ((x, &v), l) in particles.position.iter().zip(&particles.volume).zip(gradients.iter()) {
@@ -308,5 +312,6 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
             *d /= v;
         }
     }
+    *serial_seconds += serial_start.elapsed().as_secs_f64();
 }
 
