@@ -15,6 +15,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .. import RunSpec, register
 from ...study.report import DASH, fmt, pct
 from .deposit import deposit_metrics, profiles
@@ -158,6 +160,17 @@ def sweep_specs(aspect_ratios: list[float], formulation: str, overrides: list[st
                                 "overrides": list(overrides), "builder": dict(builder)}) for a in aspect_ratios]
 
 
+def _state_ratio(frame: Any, numerator: str, denominator: str) -> float | None:
+    """Σ V0 s_num / Σ V0 s_den over a frame's particles (None when a state is missing or the
+    denominator is 0)."""
+    names = list(getattr(frame, "state_names", None) or [])
+    if numerator not in names or denominator not in names:
+        return None
+    v0 = frame.volume0
+    den = float((v0 * frame.state[:, names.index(denominator)]).sum())
+    return float((v0 * frame.state[:, names.index(numerator)]).sum()) / den if den != 0 else None
+
+
 def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dict[str, Any]:
     """The figures of a finished collapse run: its deposit (:func:`deposit_metrics`), against
     every law, and the run's own status."""
@@ -186,6 +199,10 @@ def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dic
         "final_height_p95": m["final_height_p95"],
         "max_particle_radius": m["max_particle_radius"],
         "volume_ratio_mean": float((run.last.volume / run.last.volume0).mean()),
+        # Fraction of the deposit's particles at σ = 0 (disconnected or at the apex) and, with
+        # `critical_packing_fraction`, the disconnection's share of the plastic work.
+        "stress_free_fraction": float(np.all(run.last.stress == 0.0, axis=1).mean()),
+        "disconnection_fraction_of_plastic_work": _state_ratio(run.last, "disconnection_work", "plastic_work"),
         "time": m["time"],
         "deposit_time": m["time"],
         "stopped_at_rest": run.summary.get("stopped_at_rest"),
