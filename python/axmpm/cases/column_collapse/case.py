@@ -261,21 +261,26 @@ def plot_laws(cases: list[dict[str, Any]], path: Path) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
-    a = np.logspace(math.log10(0.3), math.log10(10.0), 400)
+    a_lo, a_hi = 0.3, 10.0
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    styles = ["-", "--", "-.", ":"]
-    for law, ls in zip(LAWS, styles):
+    colours = ["tab:red", "tab:blue", "tab:green", "tab:purple", "tab:orange"]
+    for law, colour in zip(LAWS, colours):
         for ax, q in ((ax1, "runout"), (ax2, "height")):
             regimes = getattr(law, q)
             n_unconf = sum(not r.confirmed for r in regimes)
             tag = "" if n_unconf == 0 else (" (unconfirmed)" if n_unconf == len(regimes)
                                             else " (partly unconfirmed)")
-            ys = [getattr(law.predict(v), q) for v in a]
-            if all(y is None for y in ys):
-                continue
-            y = np.array([np.nan if v is None else v for v in ys])
-            # break the curve at regime jumps
-            ax.plot(a, y, ls, lw=1.2, label=law.label + tag)  # vertical segments: regime jumps
+            # Each regime over its own range only (no line joining a jump between regimes),
+            # solid where confirmed, dashed where not.
+            first = True
+            for r in regimes:
+                lo, hi = max(r.a_min, a_lo), min(r.a_max, a_hi)
+                if lo >= hi:
+                    continue
+                x = np.logspace(math.log10(lo), math.log10(hi), 100)
+                ax.plot(x, r(x), color=colour, ls="-" if r.confirmed else "--", lw=1.2,
+                        label=(law.label + tag) if first else None)
+                first = False
     for c in cases:
         ax1.plot(c["aspect_ratio"], c["runout_normalised"], "ko", ms=6)
         ax2.plot(c["aspect_ratio"], c["final_height_normalised"], "ko", ms=6)
