@@ -327,13 +327,33 @@ def results_table(cases: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def write_animations(cases: list[dict[str, Any]], out: Path) -> str:
+    """An animated GIF per case (``NAME.gif`` in ``out``: particles coloured by speed,
+    :func:`.animation.animate_collapse`) and the Markdown that shows them."""
+    from .animation import animate_collapse
+
+    lines = []
+    for c in cases:
+        if not c.get("run_dir"):
+            continue
+        gif = out / f"{c['name']}.gif"
+        animate_collapse(out / c["run_dir"], gif, title=f"a = {c['aspect_ratio']:.3g}")
+        lines.append(f"![{c['name']}]({gif.name})")
+    if not lines:
+        return ""
+    return ("\n".join(lines) + "\n\n*Each collapse: the particles at every output, coloured by speed "
+            "(axes in units of R_i).*\n")
+
+
 def report_text(out: Path, data: dict[str, Any], figures: bool = True) -> str:
     """The Markdown report; writes ``profiles.png`` and ``laws.png`` in ``out`` (``figures``)."""
     cases = data["cases"]
     analysed = [c for c in cases if "laws" in c]
+    animations = ""
     if figures and analysed:
         plot_profiles(analysed, out / "profiles.png", base=out)
         plot_laws(analysed, out / "laws.png")
+        animations = write_animations(analysed, out)
     cpr = sorted({round(c["cells_per_radius"], 1) for c in analysed})
     worst = max((abs(c["laws"]["lube2004"]["runout_normalised_rel_diff"]) for c in analysed), default=0.0)
     return f"""# axmpm validation: axisymmetric granular column collapse
@@ -365,7 +385,10 @@ the reported R∞ and H∞; dashed red: Lube et al. 2004's R∞.*
 
 ![laws](laws.png)
 
-*Normalised runout and final height against a: axmpm (dots) over the laws (curves).*
+*Normalised runout and final height against a: axmpm (dots) over the laws (curves; each
+regime over its own range, dashed where unconfirmed).*
+
+{animations}
 
 ## Caveats
 

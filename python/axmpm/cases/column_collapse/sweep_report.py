@@ -197,7 +197,11 @@ def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any
         if cases:
             cases[0]["sweep_fit"] = fits  # validation.json keeps it with the first record
     energy_runs = _energy_runs(cases)
+    animations = ""
     if figures and ok:
+        from .case import write_animations
+
+        animations = write_animations(ok, out)
         plot_sweep_laws(ok, fits, out / "sweep_laws.png")
         if energy_runs:
             plot_energy([(f"{c['name']}: a = {c['aspect_ratio']:.3g}", out / c["run_dir"]) for c in energy_runs],
@@ -249,4 +253,5 @@ the scheme loses (released − all terms).
 
 *(R∞ − R_i)/R_i against a: axmpm (dots), the laws (each branch over its own range; dashed:
 unconfirmed) and the two fitted power laws.*
-"""
+
+{animations}"""
