@@ -36,7 +36,7 @@
 //!
 //! The friction angle is evaluated explicitly (from the start-of-step stress), then the step is
 //! the Mohr–Coulomb update of [`MohrCoulomb`] with that angle, so every return (plane, edges,
-//! apex, tension cut-off, re-compaction) is exactly the rate-independent one at φ(I); ψ stays as
+//! apex, tension cut-off, re-compaction, disconnection) is exactly the rate-independent one at φ(I); ψ stays as
 //! configured (ψ ≤ φ_s ≤ φ(I)). A particle that does not deform has I = 0 and the static angle.
 //!
 //! # State variables
