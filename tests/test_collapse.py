@@ -127,6 +127,13 @@ def test_builder_recompaction_flag():
     assert collapse_scenario(0.8, recompaction=True).materials["sand"].recompaction is True
 
 
+def test_builder_critical_packing_fraction():
+    sand = collapse_scenario(0.8).materials["sand"]
+    assert sand.critical_packing_fraction is None and sand.grain_density is None  # off by default
+    sand = collapse_scenario(0.8, critical_packing_fraction=0.55).materials["sand"]
+    assert sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
+
+
 def test_examples_match_builder():
     from axmpm.scenario import Scenario
 
@@ -166,6 +173,13 @@ def test_tiny_validate_run(tmp_path):
     assert case["initial_radius"] < case["runout_radius"] < 2 * case["initial_radius"]
     assert (out / "report.md").exists() and (out / "profiles.png").exists() and (out / "laws.png").exists()
     assert "cells per initial radius" in (out / "report.md").read_text()
+    # the animated collapse: one GIF frame per output frame, shown in the report
+    from PIL import Image
+
+    with Image.open(out / "a056.gif") as gif:
+        assert gif.n_frames == len(list((out / case["run_dir"] / "frames").glob("frame_*.npz")))
+    assert "![a056](a056.gif)" in (out / "report.md").read_text()
+    assert case["stress_free_fraction"] >= 0.0 and case["disconnection_fraction_of_plastic_work"] is None
 
 
 @pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])

@@ -241,3 +241,42 @@ def test_mohr_coulomb_return_is_the_same_for_reversed_principal_stresses(princip
     reversed_ = _return(material, _stress(principal[::-1]))
     np.testing.assert_allclose(reversed_[[2, 1, 0, 3]], forward, rtol=1e-12, atol=1e-9 * max(map(abs, principal)))
     assert not np.allclose(forward, _stress(principal))  # plastic: the trial was outside
+
+
+# --------------------------------------------------------------------------- disconnection
+
+def disconnecting(phi_c=0.55, **extra):
+    return {**mc(), "critical_packing_fraction": phi_c, "grain_density": 2500.0, **extra}
+
+
+def test_disconnected_sand_is_stress_free_and_recompacts_without_rebound():
+    # Isotropic stretch past J_c = (1550/2500)/0.55 = 1.127, then the same volume back.
+    dt = 1e-3
+    up = np.tile([0.5, 0.0, 0.0, 0.5, 0.5], (200, 1))  # J = (1 + 5e-4)^600 ≈ 1.35
+    down = np.tile([-0.5, 0.0, 0.0, -0.5, -0.5], (200, 1))
+    path = np.vstack([up, down])
+    on = material_point(disconnecting(), path, dt, [-2e3, -2e3, -2e3, 0.0])
+    assert on.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "disconnection_work", "plastic_work"]
+    jc = 1550.0 / 2500.0 / 0.55
+    J = np.cumprod((1.0 + path[:, 0] * dt) ** 3)  # the driver's F update: (1 ± L dt)³ per step
+    np.testing.assert_array_equal(on.stresses[J > jc], 0.0)
+    # Back at J ≈ 1 (compressed by ln(J_c) beyond the critical packing) the pressure is the
+    # elastic K ln(J_c / J) of that compression only; the plain model holds K ln(J_max / J).
+    p_on = -on.stresses[-1, :3].mean()
+    assert p_on == pytest.approx(K_BULK * math.log(jc / J[-1]), rel=0.02)
+    off = material_point(mc(), path, dt, [-2e3, -2e3, -2e3, 0.0])
+    assert -off.stresses[-1, :3].mean() > 2.0 * p_on
+
+
+@pytest.mark.parametrize("extra, field, message", [
+    ({"critical_packing_fraction": 0.7}, "critical_packing_fraction", "(0, 0.62]"),
+    ({"critical_packing_fraction": 0.0}, "critical_packing_fraction", "must be > 0"),
+    ({"grain_density": 1500.0}, "grain_density", "must be > density = 1550"),
+    ({"grain_density": None}, "grain_density", "is required with critical_packing_fraction"),
+    ({"recompaction": True}, "critical_packing_fraction", "cannot be combined with recompaction"),
+])
+def test_disconnection_input_errors_name_the_field(extra, field, message):
+    with pytest.raises(ScenarioError) as info:
+        validate_material(disconnecting(**extra))
+    text = str(info.value)
+    assert field in text and message in text, text

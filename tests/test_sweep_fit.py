@@ -44,3 +44,21 @@ def test_bad_aspect_ratios_exit_2_naming_the_option(text, capsys, tmp_path):
 
 def test_aspect_ratios_are_sorted():
     assert parse_aspect_ratios("5.4, 0.5,2") == [0.5, 2.0, 5.4]
+
+
+def test_failed_runs_are_tabulated_but_not_fitted(tmp_path):
+    from axmpm.cases.column_collapse.laws import compare
+    from axmpm.cases.column_collapse.sweep_report import sweep_report
+
+    def case(a, y, status="completed"):
+        return {"name": f"a{a:g}", "aspect_ratio": a, "cells_per_radius": 30.0, "runout_normalised": y,
+                "final_height_normalised": 0.7, "volume_ratio_mean": 1.0, "status": status,
+                "laws": compare(a, y, 0.7, 0.03), "run_dir": f"cases/column_collapse/a{a:g}"}
+
+    good = [case(a, 1.24 * a if a < 1.7 else 1.6 * a**0.5) for a in (0.5, 0.8, 1.2, 2.5, 4.0, 7.0)]
+    # a failed run whose last frame is far off the law must not move the fit
+    cases = good + [case(10.0, 50.0, status="failed")]
+    text = sweep_report(cases, tmp_path, {"formulation": "axisymmetric", "overrides": []}, figures=False)
+    fits = cases[0]["sweep_fit"]
+    assert fits["above"]["a_max"] == 7.0 and abs(fits["above"]["beta"] - 0.5) < 1e-9, fits
+    assert "| a10 |" in text and "failed" in text

@@ -139,7 +139,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
         from .cases.column_collapse.demo import run_collapse_demo
 
         print("Granular column collapse, a = 0.56, axisymmetric, Mohr-Coulomb (phi 25, psi 0), "
-              "2 mm cells (15 per R_i), cpGIMP, pure FLIP")
+              "1 mm cells (30 per R_i), cpGIMP, pure FLIP")
         res = run_collapse_demo(args.out, overwrite=args.overwrite, threads=args.threads,
                                 progress=args.progress)
         code = _report_run(res.summary, res.out)

@@ -109,6 +109,9 @@
 //! * `plastic_volumetric_strain`: Σ tr Δε^p (signed accumulated plastic volume change,
 //!   dilation positive; identically zero for ψ = 0 except for apex / tension returns; with
 //!   `recompaction` the stress-free closing below counts as a negative plastic volume change).
+//! * `disconnection_work` (only with `critical_packing_fraction`): the elastic energy discarded
+//!   by disconnection, J per m³ of reference volume (also counted in `plastic_work`), see
+//!   "Disconnected material" below.
 //! * `opening_volumetric_strain` (only with `recompaction = true`): the open volume o ≥ 0 of
 //!   separated material, see below.
 //!
@@ -169,6 +172,52 @@
 //! the directional nature of tension cracks is not represented. The option is meant for
 //! granular material (c = 0, where the cut-off is clamped to the apex and only apex returns
 //! occur). Off (the default), the update is bit for bit the one without this option.
+//!
+//! # Disconnected material below the critical packing (`critical_packing_fraction`)
+//!
+//! The Dunatunga & Kamrin (2015) rule itself, with the threshold a property of the grains
+//! instead of each particle's own separation density: a granular material whose packing
+//! fraction φ = ρ/ρ_s has fallen below its critical (random-loose) packing φ_c has no
+//! enduring contacts and carries no stress. With the bulk density `density` = ρ0 of the
+//! material as placed and the grain density `grain_density` = ρ_s, the packing as placed is
+//! φ0 = ρ0/ρ_s and a particle of J = det F = V/V0 has φ = φ0/J, so it is **disconnected**
+//! when
+//!
+//! ```text
+//! J > J_c = φ0/φ_c = ρ0/(φ_c ρ_s)      (φ_c ≤ φ0, so J_c ≥ 1)
+//! ```
+//!
+//! J is the solver's det F at the end of the step ([`Kinematics::jacobian`]).
+//!
+//! 1. **Disconnected** (J > J_c, any c): σ = 0, whatever the trial stress σ_B (it can carry
+//!    neither tension nor compression). The whole trial is booked as plastic strain,
+//!    Δε^p = C σ_B (its deviatoric norm in `plastic_shear_strain`, its trace in
+//!    `plastic_volumetric_strain`). The elastic energy it had, net of the work done in the
+//!    step, is booked as dissipation in `disconnection_work` and in `plastic_work`: with the
+//!    trapezoidal stress power ½(σ_n + σ_{n+1}) : dε, a return from σ_B to σ_{n+1}
+//!    dissipates ½(σ_n + σ_{n+1}) : Δε^p (since W(σ_{n+1}) − W(σ_n) = ½(σ_n + σ_{n+1}) :
+//!    C (σ_{n+1} − σ_n), W the complementary energy density, [`super::complementary_energy`]);
+//!    for σ_{n+1} = 0 that is J ½ σ_n : C σ_B per unit reference volume (σ_n with the step's
+//!    Jaumann rotation), = J W(σ_n) for a step without deformation, 0 for a point that was
+//!    already stress-free, and clamped at 0 (a stressed point that unloads through zero
+//!    within the step gives a negative trapezoidal value, while the exact elastic path
+//!    dissipates nothing). The ordinary returns book the backward-Euler σ_{n+1} : Δε^p
+//!    instead, which differs from this by a second-order term.
+//! 2. **Re-connection** (J ≤ J_c at the end of a step that started with J_n > J_c): the
+//!    compression done while still disconnected, ln(J_n/J_c) with ln J_n = ln J − tr dε
+//!    (tr dε is the rate form of Δ ln J), is removed from the strain increment before the
+//!    elastic trial, dε ← dε + (Δc/3) I, and booked as plastic compaction
+//!    (`plastic_volumetric_strain` −= Δc). The material therefore re-connects at the critical
+//!    packing with σ = 0: nothing of the volume it lost while disconnected is stored as
+//!    elastic strain, so nothing of it rebounds (inelastic re-compaction). Only compression
+//!    beyond J_c builds elastic stress.
+//! 3. **Connected** (J ≤ J_c): the Mohr–Coulomb update above (tension returns to the apex,
+//!    0 for c = 0).
+//!
+//! Unlike `recompaction` (which it excludes) there is no per-particle memory: the state is
+//! a function of J alone, as in Dunatunga & Kamrin, and the deposit can be no looser than
+//! φ_c where it was disconnected (J ≤ J_c) unless it was left disconnected. Absent (the
+//! default), the update is bit for bit the one without this option.
 
 use super::mu_i::InertialMohrCoulomb;
 use super::{jaumann_rotation, lame, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
@@ -178,11 +227,17 @@ use crate::particles::Stress;
 pub const RECOMPACTION_DEFAULT: bool = false;
 
 /// State slots: accumulated plastic shear strain, plastic volumetric strain, (with
-/// `recompaction`) the open volume of separated material, and the plastic work (last).
+/// `recompaction`) the open volume of separated material or (with
+/// `critical_packing_fraction`) the energy discarded by disconnection, and the plastic work
+/// (last).
 const STATE_NAMES: [&str; 4] =
     ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain", "plastic_work"];
 const STATE_NAMES_PLAIN: [&str; 3] = ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work"];
+const STATE_NAMES_DISCONNECTION: [&str; 4] =
+    ["plastic_shear_strain", "plastic_volumetric_strain", "disconnection_work", "plastic_work"];
 const OPENING: usize = 2;
+/// Slot of `disconnection_work` (with `critical_packing_fraction`).
+const DISCONNECTION_WORK: usize = 2;
 
 /// Which part of the yield surface a return went to (sorted principal space).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -226,6 +281,8 @@ pub struct MohrCoulomb {
     pub tension_cutoff: f64,
     /// Separated (apex / tension) material re-compacts stress-free (module doc).
     pub recompaction: bool,
+    /// J_c = φ0/φ_c above which the material is disconnected (module doc); `None` = off.
+    pub critical_jacobian: Option<f64>,
     elastic: LinearElastic,
     lambda: f64,
     mu: f64,
@@ -331,6 +388,7 @@ impl MohrCoulomb {
             cohesion,
             tension_cutoff,
             recompaction: false,
+            critical_jacobian: None,
             elastic: LinearElastic::new(density, youngs_modulus, poisson_ratio),
             lambda,
             mu,
@@ -355,6 +413,13 @@ impl MohrCoulomb {
     /// Switches the stress-free re-compaction of separated material on or off (module doc).
     pub fn with_recompaction(mut self, recompaction: bool) -> Self {
         self.recompaction = recompaction;
+        self
+    }
+
+    /// Switches the disconnected state on above J = `critical_jacobian` (φ0/φ_c, module doc)
+    /// or off (`None`).
+    pub fn with_disconnection(mut self, critical_jacobian: Option<f64>) -> Self {
+        self.critical_jacobian = critical_jacobian;
         self
     }
 
@@ -401,8 +466,43 @@ impl MohrCoulomb {
         if !(density > 0.0 && density.is_finite()) {
             return Err(p.error("density", format!("must be > 0 for mohr_coulomb (got {density})")));
         }
+        let recompaction = p.bool_or("recompaction", RECOMPACTION_DEFAULT)?;
+        let critical_jacobian = Self::critical_jacobian_of(p, density, recompaction)?;
         Ok(Self::new(density, youngs_modulus, poisson_ratio, phi, psi, coh, st)
-            .with_recompaction(p.bool_or("recompaction", RECOMPACTION_DEFAULT)?))
+            .with_recompaction(recompaction)
+            .with_disconnection(critical_jacobian))
+    }
+
+    /// J_c = ρ0/(φ_c ρ_s) from `critical_packing_fraction` (φ_c) and `grain_density` (ρ_s), or
+    /// `None` without a `critical_packing_fraction`. The packing as placed, φ0 = ρ0/ρ_s, must be
+    /// < 1 and φ_c in (0, φ0] (a material placed looser than φ_c would start disconnected).
+    fn critical_jacobian_of(p: &Parameters, density: f64, recompaction: bool) -> Result<Option<f64>, String> {
+        let Some(phi_c) = p.optional_f64("critical_packing_fraction")? else {
+            return Ok(None);
+        };
+        if recompaction {
+            return Err(p.error(
+                "critical_packing_fraction",
+                "cannot be combined with recompaction = true (both model separated material: choose one)",
+            ));
+        }
+        let rho_s = p
+            .optional_f64("grain_density")?
+            .ok_or_else(|| p.error("grain_density", "is required with critical_packing_fraction"))?;
+        if !(rho_s > density && rho_s.is_finite()) {
+            return Err(p.error(
+                "grain_density",
+                format!("must be > density = {density} kg/m³ (packing as placed density/grain_density < 1; got {rho_s})"),
+            ));
+        }
+        let phi0 = density / rho_s;
+        if !(phi_c > 0.0 && phi_c <= phi0) {
+            return Err(p.error(
+                "critical_packing_fraction",
+                format!("must be in (0, density/grain_density] = (0, {phi0}] (got {phi_c})"),
+            ));
+        }
+        Ok(Some(phi0 / phi_c))
     }
 
     /// Mohr–Coulomb yield function f = k σ1 − σ3 − 2c√k of sorted principal stresses.
@@ -512,7 +612,7 @@ impl MohrCoulomb {
     /// Index of `plastic_work` in this model's state (the last slot).
     #[inline(always)]
     pub fn plastic_work_slot(&self) -> usize {
-        if self.recompaction {
+        if self.recompaction || self.critical_jacobian.is_some() {
             3
         } else {
             2
@@ -575,6 +675,52 @@ impl MohrCoulomb {
             de[2] += third;
             state[OPENING] = if closed >= opening { 0.0 } else { opening - closed };
             state[1] -= closed;
+        }
+    }
+
+    /// Re-connection (module doc, "Disconnected material", rule 2): the part of a compressive
+    /// strain increment done while J was still above J_c, ln(J_n/J_c) with
+    /// ln J_n = ln J − tr dε, is taken out of `de` and booked as plastic compaction.
+    #[inline(always)]
+    fn reconnect(de: &mut [f64; 4], state: &mut [f64], jacobian: f64, critical_jacobian: f64) {
+        let dv = de[0] + de[1] + de[2];
+        if dv < 0.0 {
+            let excess = jacobian.ln() - dv - critical_jacobian.ln();
+            if excess > 0.0 {
+                let closed = excess.min(-dv);
+                let third = closed / 3.0;
+                de[0] += third;
+                de[1] += third;
+                de[2] += third;
+                if let Some(vol) = state.get_mut(1) {
+                    *vol -= closed;
+                }
+            }
+        }
+    }
+
+    /// Disconnected material (module doc, rule 1): σ = 0; the trial `tr` is all plastic,
+    /// Δε^p = C σ_B, and max(0, J ½ σ_n : Δε^p) (per unit reference volume; `start` = σ_n with
+    /// the step's rotation) is booked as dissipation in `disconnection_work` and `plastic_work`.
+    #[inline(always)]
+    fn disconnect(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, start: Stress, jacobian: f64) {
+        *stress = [0.0; 4];
+        if state.len() > self.plastic_work_slot() {
+            let nu = self.poisson_ratio;
+            let e = self.youngs_modulus;
+            let s = nu * (tr[0] + tr[1] + tr[2]);
+            let ep = [((1.0 + nu) * tr[0] - s) / e, ((1.0 + nu) * tr[1] - s) / e, ((1.0 + nu) * tr[2] - s) / e];
+            // Tensor shear strain ε12 = σ12 / (2G) = (1 + ν) σ12 / E.
+            let ep12 = (1.0 + nu) * tr[3] / e;
+            let vol = ep[0] + ep[1] + ep[2];
+            let m = vol / 3.0;
+            let (e0, e1, e2) = (ep[0] - m, ep[1] - m, ep[2] - m);
+            state[0] += (2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2 + 2.0 * ep12 * ep12)).sqrt();
+            state[1] += vol;
+            let power = start[0] * ep[0] + start[1] * ep[1] + start[2] * ep[2] + 2.0 * start[3] * ep12;
+            let discarded = (0.5 * jacobian * power).max(0.0);
+            state[DISCONNECTION_WORK] += discarded;
+            state[self.plastic_work_slot()] += discarded;
         }
     }
 
@@ -663,6 +809,8 @@ impl Material for MohrCoulomb {
     fn state_names(&self) -> &'static [&'static str] {
         if self.recompaction {
             &STATE_NAMES
+        } else if self.critical_jacobian.is_some() {
+            &STATE_NAMES_DISCONNECTION
         } else {
             &STATE_NAMES_PLAIN
         }
@@ -677,11 +825,27 @@ impl Material for MohrCoulomb {
             Self::close_opening(&mut de, state);
             separated = self.cohesion == 0.0 && state[OPENING] > 0.0;
         }
+        let mut disconnected = false;
+        if let Some(jc) = self.critical_jacobian {
+            if k.jacobian > jc {
+                disconnected = true;
+            } else {
+                Self::reconnect(&mut de, state, k.jacobian, jc);
+            }
+        }
         let rot = jaumann_rotation(stress, spin, k.dt);
         let inc = self.elastic.elastic_increment(&de);
         let mut tr = *stress;
         for c in 0..4 {
             tr[c] += inc[c] + rot[c];
+        }
+        if disconnected {
+            let mut start = *stress;
+            for c in 0..4 {
+                start[c] += rot[c];
+            }
+            self.disconnect(stress, state, tr, start, k.jacobian);
+            return;
         }
 
         if !separated && self.clearly_elastic(&tr) {
@@ -1439,6 +1603,199 @@ mod tests {
         // And it does change once separated material is re-compacted.
         let (h_on, _) = trajectory_hash(&mc_rc);
         assert_ne!(h_on, PLAIN_MOHR_COULOMB);
+    }
+
+    /// A default-off `critical_packing_fraction` (`with_disconnection(None)`) is plain
+    /// Mohr–Coulomb bit for bit; switched on (J_c = 1 on these F = I histories, so every
+    /// step whose J would exceed 1 disconnects) it changes the histories.
+    #[test]
+    fn disconnection_off_is_plain_mohr_coulomb_bit_for_bit() {
+        let (plain, _) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d));
+        let (off, _) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d).with_disconnection(None));
+        assert_eq!(off, plain);
+        // `kin` reports J = 1: with J_c just below 1 every step is disconnected.
+        let (on, _) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d).with_disconnection(Some(0.999)));
+        assert_ne!(on, plain);
+    }
+
+    // ------------------------------------------------------------------ disconnection
+
+    use crate::material::testing::MaterialPoint;
+
+    fn disconnecting(phi: f64, c: f64, critical_jacobian: f64) -> MohrCoulomb {
+        mc(phi, 0.0, c, 0.0).with_disconnection(Some(critical_jacobian))
+    }
+
+    fn jacobian_of(p: &MaterialPoint) -> f64 {
+        let f = p.deformation_gradient;
+        (f[0] * f[3] - f[1] * f[2]) * f[4]
+    }
+
+    /// Above J_c the stress is 0 whatever the step does: compressing (while J is still above
+    /// J_c) and shearing builds no stress, for cohesionless and cohesive material; the plain
+    /// model builds stress on the same history.
+    #[test]
+    fn disconnected_point_carries_no_stress() {
+        let jc = 1.05;
+        let r = 2e-4; // isotropic rate × dt per step
+        let stretch = [r, 0.0, 0.0, r, r];
+        let squeeze_and_shear = [-0.2 * r, 3.0 * r, 0.0, -0.2 * r, -0.2 * r];
+        for c in [0.0, 20e3] {
+            let m = disconnecting(30.0, c, jc);
+            let plain = mc(30.0, 0.0, c, 0.0);
+            let start = [-3e3, -5e3, -3e3, 500.0];
+            let mut p = MaterialPoint::new(&m, start);
+            let mut q = MaterialPoint::new(&plain, start);
+            let mut steps = 0;
+            while jacobian_of(&p) <= 1.1 {
+                p.step(&m, stretch, 1.0);
+                q.step(&plain, stretch, 1.0);
+                steps += 1;
+                assert!(steps < 10_000);
+            }
+            assert_eq!(p.stress, [0.0; 4], "c = {c}");
+            for _ in 0..50 {
+                p.step(&m, squeeze_and_shear, 1.0);
+                q.step(&plain, squeeze_and_shear, 1.0);
+                assert!(jacobian_of(&p) > jc);
+                assert_eq!(p.stress, [0.0; 4], "c = {c}: disconnected but stressed at J = {}", jacobian_of(&p));
+            }
+            let loaded = principal_stresses(&q.stress);
+            assert!(loaded[2] < -1.0, "c = {c}: the plain model should be loaded, {:?}", q.stress);
+            assert!(p.state[0] > 0.0 && p.state[1] > 0.05, "plastic strains {:?}", p.state);
+        }
+    }
+
+    /// Stretched from a confined state past J_c and compressed back: the stress stays 0 down
+    /// to J_c (no rebound of the volume lost while disconnected) and only the compression
+    /// beyond J_c is elastic, p = K ln(J_c/J); the plain model, compressed along the same
+    /// history, holds ~K ln(J_max/J) instead. Stretching again from there, the point is
+    /// stress-free again at J_c.
+    #[test]
+    fn recompaction_to_the_critical_packing_has_no_rebound() {
+        let jc = 1.06;
+        let r = 1e-4;
+        let k = bulk_modulus();
+        for (dev, c) in [(0.0, 0.0), (0.5, 0.0), (0.0, 5e3)] {
+            let m = disconnecting(30.0, c, jc);
+            let plain = mc(30.0, 0.0, c, 0.0);
+            let stretch = [r, dev * r, 0.0, r, r];
+            let compress = [-r, 0.0, dev * r, -r, -r];
+            let start = [-2e3, -2e3, -2e3, 0.0];
+            let mut p = MaterialPoint::new(&m, start);
+            let mut q = MaterialPoint::new(&plain, start);
+            while jacobian_of(&p) < 1.25 {
+                p.step(&m, stretch, 1.0);
+                q.step(&plain, stretch, 1.0);
+            }
+            let mut steps = 0;
+            while jacobian_of(&p) > jc {
+                p.step(&m, compress, 1.0);
+                q.step(&plain, compress, 1.0);
+                // The step that re-connects closes only the excess over J_c stress-free.
+                let pressure = -(p.stress[0] + p.stress[1] + p.stress[2]) / 3.0;
+                let beyond = (jc / jacobian_of(&p)).ln().max(0.0);
+                assert!(pressure <= k * beyond * 1.01 + 1e-9, "dev {dev} c {c}: p = {pressure} at J = {}", jacobian_of(&p));
+                steps += 1;
+                assert!(steps < 10_000);
+            }
+            let target = jc * (-0.01f64).exp();
+            while jacobian_of(&p) > target {
+                p.step(&m, compress, 1.0);
+                q.step(&plain, compress, 1.0);
+            }
+            let j = jacobian_of(&p);
+            let pressure = -(p.stress[0] + p.stress[1] + p.stress[2]) / 3.0;
+            let expected = k * (jc / j).ln();
+            assert!((pressure - expected).abs() < 0.02 * expected, "dev {dev} c {c}: p = {pressure}, K ln(J_c/J) = {expected}");
+            let plain_pressure = -(q.stress[0] + q.stress[1] + q.stress[2]) / 3.0;
+            assert!(plain_pressure > 5.0 * expected, "plain model: p = {plain_pressure} vs {expected}");
+            // Unloading: back to zero stress by J_c (the elastic part returns, nothing more).
+            while jacobian_of(&p) <= jc {
+                p.step(&m, stretch, 1.0);
+            }
+            assert_eq!(p.stress, [0.0; 4], "dev {dev} c {c}");
+        }
+    }
+
+    /// The elastic energy of a stressed point that is found disconnected (here without any
+    /// deformation in the step, so σ_B = σ_n) is booked in full, J W(σ_n) per unit reference
+    /// volume, in `disconnection_work` and in `plastic_work`; its elastic strain becomes
+    /// plastic (total strain unchanged). A point compressed while disconnected (stress-free,
+    /// so no work is done on it) books nothing.
+    #[test]
+    fn disconnection_books_the_discarded_elastic_energy() {
+        let jc = 1.1;
+        let m = disconnecting(30.0, 0.0, jc);
+        assert_eq!(m.state_names(), &STATE_NAMES_DISCONNECTION[..]);
+        assert_eq!(m.plastic_work_slot(), 3);
+        let sigma = [-2e3, -1e3, -1.5e3, 300.0];
+        for j in [0.9, 1.3] {
+            let mut s = sigma;
+            let mut state = [0.0; 4];
+            let k = Kinematics { velocity_gradient: [0.0; 5], deformation_gradient: [1.0, 0.0, 0.0, 1.0, j], jacobian: j, dt: 1.0 };
+            m.update_stress(&mut s, &mut state, &k);
+            if j < jc {
+                assert_eq!((s, state), (sigma, [0.0; 4]), "connected and elastic");
+                continue;
+            }
+            assert_eq!(s, [0.0; 4]);
+            let w = j * super::super::complementary_energy(&sigma, E, NU);
+            assert!(w > 0.0);
+            assert!((state[DISCONNECTION_WORK] - w).abs() <= 1e-12 * w, "{state:?} vs {w}");
+            assert_eq!(state[DISCONNECTION_WORK], state[3]);
+            let ep = compliance4(&sigma);
+            assert!((state[1] - (ep[0] + ep[1] + ep[2])).abs() < 1e-15, "{state:?}");
+        }
+        // Over a stretch–compress cycle through J_c from a confined start, the booked energy is
+        // at most the initial elastic energy (the rest is returned by elastic unloading).
+        let mut p = MaterialPoint::new(&m, [-2e3, -2e3, -2e3, 0.0]);
+        let w0 = super::super::complementary_energy(&p.stress, E, NU);
+        let r = 1e-4;
+        while jacobian_of(&p) < 1.2 {
+            p.step(&m, [r, 0.0, 0.0, r, r], 1.0);
+        }
+        while jacobian_of(&p) > 1.0 {
+            p.step(&m, [-r, 0.0, 0.0, -r, -r], 1.0);
+        }
+        assert!(p.state[DISCONNECTION_WORK] >= 0.0 && p.state[DISCONNECTION_WORK] <= w0, "{:?} vs {w0}", p.state);
+        assert!(p.state[3] >= p.state[DISCONNECTION_WORK]);
+    }
+
+    #[test]
+    fn disconnection_config_names_the_field_and_its_range() {
+        use crate::config::MaterialConfig;
+        let mut base = MaterialConfig::elastic("mohr_coulomb", 1550.0, 1e6, 0.3);
+        base.set("friction_angle", 25.0);
+        let from = |c: &MaterialConfig| {
+            let table = c.parameters.clone();
+            MohrCoulomb::from_parameters(&Parameters::new("sand", &table))
+        };
+        assert_eq!(from(&base).unwrap().critical_jacobian, None);
+        let mut c = base.clone();
+        c.set("critical_packing_fraction", 0.58);
+        assert_eq!(from(&c).err().unwrap(), "materials.sand.grain_density: is required with critical_packing_fraction");
+        c.set("grain_density", 2500.0);
+        let m = from(&c).unwrap();
+        let jc = m.critical_jacobian.unwrap();
+        assert!((jc - 1550.0 / 2500.0 / 0.58).abs() < 1e-15, "{jc}");
+        assert_eq!(m.state_names(), &STATE_NAMES_DISCONNECTION[..]);
+        assert_eq!(super::super::build("sand", &c).unwrap().state_names(), &STATE_NAMES_DISCONNECTION[..]);
+        for phi_c in [0.0, 0.63, -0.1] {
+            c.set("critical_packing_fraction", phi_c);
+            assert_eq!(
+                from(&c).err().unwrap(),
+                format!("materials.sand.critical_packing_fraction: must be in (0, density/grain_density] = (0, 0.62] (got {phi_c})")
+            );
+        }
+        c.set("critical_packing_fraction", 0.58).set("grain_density", 1500.0);
+        assert!(from(&c).err().unwrap().starts_with("materials.sand.grain_density: must be > density = 1550"));
+        c.set("grain_density", 2500.0).set("recompaction", true);
+        assert!(from(&c).err().unwrap().starts_with("materials.sand.critical_packing_fraction: cannot be combined with recompaction"));
+        // With μ(I): the wrapper keeps the option and its state slot.
+        c.set("recompaction", false).set("inertial_friction_angle", 40.0).set("grain_diameter", 1e-3);
+        let names = super::super::build("sand", &c).unwrap().state_names();
+        assert_eq!(names, ["plastic_shear_strain", "plastic_volumetric_strain", "disconnection_work", "plastic_work", "inertial_number"]);
     }
 
     /// Stretched into tension (stress-free expansion at the apex), then compressed back by the

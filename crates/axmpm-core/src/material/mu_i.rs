@@ -36,7 +36,7 @@
 //!
 //! The friction angle is evaluated explicitly (from the start-of-step stress), then the step is
 //! the Mohr–Coulomb update of [`MohrCoulomb`] with that angle, so every return (plane, edges,
-//! apex, tension cut-off, re-compaction) is exactly the rate-independent one at φ(I); ψ stays as
+//! apex, tension cut-off, re-compaction, disconnection) is exactly the rate-independent one at φ(I); ψ stays as
 //! configured (ψ ≤ φ_s ≤ φ(I)). A particle that does not deform has I = 0 and the static angle.
 //!
 //! # State variables
@@ -56,6 +56,13 @@ pub const INERTIAL_NUMBER_SCALE_DEFAULT: f64 = 0.279;
 
 const STATE_NAMES: [&str; 4] =
     ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work", "inertial_number"];
+const STATE_NAMES_DISCONNECTION: [&str; 5] = [
+    "plastic_shear_strain",
+    "plastic_volumetric_strain",
+    "disconnection_work",
+    "plastic_work",
+    "inertial_number",
+];
 const STATE_NAMES_RECOMPACTION: [&str; 5] = [
     "plastic_shear_strain",
     "plastic_volumetric_strain",
@@ -165,6 +172,7 @@ impl InertialMohrCoulomb {
         MohrCoulomb::new(b.density, b.youngs_modulus, b.poisson_ratio, mu.asin().to_degrees(), b.dilation_angle,
                          b.cohesion, b.tension_cutoff)
             .with_recompaction(b.recompaction)
+            .with_disconnection(b.critical_jacobian)
     }
 }
 
@@ -184,6 +192,8 @@ impl Material for InertialMohrCoulomb {
     fn state_names(&self) -> &'static [&'static str] {
         if self.base.recompaction {
             &STATE_NAMES_RECOMPACTION
+        } else if self.base.critical_jacobian.is_some() {
+            &STATE_NAMES_DISCONNECTION
         } else {
             &STATE_NAMES
         }

@@ -15,6 +15,8 @@ import math
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .. import RunSpec, register
 from ...study.report import DASH, fmt, pct
 from .deposit import deposit_metrics, profiles
@@ -158,6 +160,17 @@ def sweep_specs(aspect_ratios: list[float], formulation: str, overrides: list[st
                                 "overrides": list(overrides), "builder": dict(builder)}) for a in aspect_ratios]
 
 
+def _state_ratio(frame: Any, numerator: str, denominator: str) -> float | None:
+    """Σ V0 s_num / Σ V0 s_den over a frame's particles (None when a state is missing or the
+    denominator is 0)."""
+    names = list(getattr(frame, "state_names", None) or [])
+    if numerator not in names or denominator not in names:
+        return None
+    v0 = frame.volume0
+    den = float((v0 * frame.state[:, names.index(denominator)]).sum())
+    return float((v0 * frame.state[:, names.index(numerator)]).sum()) / den if den != 0 else None
+
+
 def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dict[str, Any]:
     """The figures of a finished collapse run: its deposit (:func:`deposit_metrics`), against
     every law, and the run's own status."""
@@ -186,6 +199,10 @@ def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dic
         "final_height_p95": m["final_height_p95"],
         "max_particle_radius": m["max_particle_radius"],
         "volume_ratio_mean": float((run.last.volume / run.last.volume0).mean()),
+        # Fraction of the deposit's particles at σ = 0 (disconnected or at the apex) and, with
+        # `critical_packing_fraction`, the disconnection's share of the plastic work.
+        "stress_free_fraction": float(np.all(run.last.stress == 0.0, axis=1).mean()),
+        "disconnection_fraction_of_plastic_work": _state_ratio(run.last, "disconnection_work", "plastic_work"),
         "time": m["time"],
         "deposit_time": m["time"],
         "stopped_at_rest": run.summary.get("stopped_at_rest"),
@@ -244,21 +261,26 @@ def plot_laws(cases: list[dict[str, Any]], path: Path) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
-    a = np.logspace(math.log10(0.3), math.log10(10.0), 400)
+    a_lo, a_hi = 0.3, 10.0
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
-    styles = ["-", "--", "-.", ":"]
-    for law, ls in zip(LAWS, styles):
+    colours = ["tab:red", "tab:blue", "tab:green", "tab:purple", "tab:orange"]
+    for law, colour in zip(LAWS, colours):
         for ax, q in ((ax1, "runout"), (ax2, "height")):
             regimes = getattr(law, q)
             n_unconf = sum(not r.confirmed for r in regimes)
             tag = "" if n_unconf == 0 else (" (unconfirmed)" if n_unconf == len(regimes)
                                             else " (partly unconfirmed)")
-            ys = [getattr(law.predict(v), q) for v in a]
-            if all(y is None for y in ys):
-                continue
-            y = np.array([np.nan if v is None else v for v in ys])
-            # break the curve at regime jumps
-            ax.plot(a, y, ls, lw=1.2, label=law.label + tag)  # vertical segments: regime jumps
+            # Each regime over its own range only (no line joining a jump between regimes),
+            # solid where confirmed, dashed where not.
+            first = True
+            for r in regimes:
+                lo, hi = max(r.a_min, a_lo), min(r.a_max, a_hi)
+                if lo >= hi:
+                    continue
+                x = np.logspace(math.log10(lo), math.log10(hi), 100)
+                ax.plot(x, r(x), color=colour, ls="-" if r.confirmed else "--", lw=1.2,
+                        label=(law.label + tag) if first else None)
+                first = False
     for c in cases:
         ax1.plot(c["aspect_ratio"], c["runout_normalised"], "ko", ms=6)
         ax2.plot(c["aspect_ratio"], c["final_height_normalised"], "ko", ms=6)
@@ -305,13 +327,33 @@ def results_table(cases: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def write_animations(cases: list[dict[str, Any]], out: Path) -> str:
+    """An animated GIF per case (``NAME.gif`` in ``out``: particles coloured by speed,
+    :func:`.animation.animate_collapse`) and the Markdown that shows them."""
+    from .animation import animate_collapse
+
+    lines = []
+    for c in cases:
+        if not c.get("run_dir"):
+            continue
+        gif = out / f"{c['name']}.gif"
+        animate_collapse(out / c["run_dir"], gif, title=f"a = {c['aspect_ratio']:.3g}")
+        lines.append(f"![{c['name']}]({gif.name})")
+    if not lines:
+        return ""
+    return ("\n".join(lines) + "\n\n*Each collapse: the particles at every output, coloured by speed "
+            "(axes in units of R_i).*\n")
+
+
 def report_text(out: Path, data: dict[str, Any], figures: bool = True) -> str:
     """The Markdown report; writes ``profiles.png`` and ``laws.png`` in ``out`` (``figures``)."""
     cases = data["cases"]
     analysed = [c for c in cases if "laws" in c]
+    animations = ""
     if figures and analysed:
         plot_profiles(analysed, out / "profiles.png", base=out)
         plot_laws(analysed, out / "laws.png")
+        animations = write_animations(analysed, out)
     cpr = sorted({round(c["cells_per_radius"], 1) for c in analysed})
     worst = max((abs(c["laws"]["lube2004"]["runout_normalised_rel_diff"]) for c in analysed), default=0.0)
     return f"""# axmpm validation: axisymmetric granular column collapse
@@ -343,7 +385,10 @@ the reported R∞ and H∞; dashed red: Lube et al. 2004's R∞.*
 
 ![laws](laws.png)
 
-*Normalised runout and final height against a: axmpm (dots) over the laws (curves).*
+*Normalised runout and final height against a: axmpm (dots) over the laws (curves; each
+regime over its own range, dashed where unconfirmed).*
+
+{animations}
 
 ## Caveats
 

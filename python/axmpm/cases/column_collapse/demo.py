@@ -1,6 +1,7 @@
-"""``axmpm demo``: the a = 0.56 axisymmetric granular column collapse at default resolution
-(2 mm cells, R_i = 3 cm), its free-surface profiles and its runout and height against
-Lube et al. 2004 (the ``a056`` run of the ``column_collapse`` case, in a single run folder)."""
+"""``axmpm demo``: the a = 0.56 axisymmetric granular column collapse at 30 cells per radius
+(1 mm cells, R_i = 3 cm: the mesh on which a ≤ 0.8 is converged, docs/validation.md), its
+free-surface profiles and its runout and height against Lube et al. 2004 (the ``a056`` run of
+the ``column_collapse`` case, in a single run folder)."""
 
 from __future__ import annotations
 
@@ -8,6 +9,9 @@ import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+#: Cell size of the demo, m: 30 cells per R_i = 3 cm (issue 15: the project's best a = 0.56 run).
+DEMO_CELL_SIZE = 0.001
 
 
 @dataclass
@@ -27,6 +31,7 @@ def run_collapse_demo(out: str | Path = "runs/demo", overwrite: bool = False, th
     from .scenario import collapse_scenario
 
     out = Path(out)
+    builder.setdefault("cell_size", DEMO_CELL_SIZE)
     scenario = collapse_scenario(CASES["a056"], **builder)
     summary = run(scenario, out, threads=threads, overwrite=overwrite, progress=progress)
     if summary["status"] != "completed":
@@ -39,6 +44,7 @@ def run_collapse_demo(out: str | Path = "runs/demo", overwrite: bool = False, th
     report = out / "demo.md"
     report.write_text("# axmpm demo: granular column collapse, a = 0.56\n\n"
                       + results_table([case]) + "\n\n![profiles](profiles.png)\n\n"
-                      "At 15 cells per radius H_i is rounded to 16 mm (a = 0.533); finer meshes and the mesh "
-                      "convergence of the runout: docs/validation.md.\n")
+                      f"{case['cells_per_radius']:.0f} cells per radius; H_i is rounded to whole cells "
+                      f"(a = {case['aspect_ratio']:.3f}). Other meshes and the mesh convergence of the "
+                      "runout: docs/validation.md.\n")
     return CollapseDemoResult(out, summary, case, figure, report)

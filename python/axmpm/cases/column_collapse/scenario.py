@@ -27,6 +27,9 @@ DEFAULTS: dict[str, Any] = {
     # Separated sand re-compacts stress-free (mohr_coulomb.rs doc; docs/validation.md,
     # "Re-compaction"); False = the seed set-up, the opened volume is permanent.
     "recompaction": False,
+    # Disconnected state (mohr_coulomb.rs, Dunatunga & Kamrin 2015): None = off; φ_c makes
+    # sand looser than φ_c (J > density/(grain_density φ_c)) stress-free.
+    "critical_packing_fraction": None,
     # μ(I) friction (mu_i.rs): None = rate-independent Mohr–Coulomb at friction_angle; an
     # angle φ₂ makes friction_angle the static angle of sin φ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I).
     "inertial_friction_angle": None,  # degrees
@@ -77,6 +80,7 @@ def collapse_scenario(
     dilation_angle: float = DEFAULTS["dilation_angle"],
     cohesion: float = DEFAULTS["cohesion"],
     recompaction: bool = DEFAULTS["recompaction"],
+    critical_packing_fraction: float | None = DEFAULTS["critical_packing_fraction"],
     inertial_friction_angle: float | None = DEFAULTS["inertial_friction_angle"],
     inertial_number_scale: float = DEFAULTS["inertial_number_scale"],
     grain_diameter: float = DEFAULTS["grain_diameter"],
@@ -145,6 +149,9 @@ def collapse_scenario(
                 "cohesion": cohesion,
                 "tension_cutoff": 0.0,
                 "recompaction": recompaction,
+                **({"critical_packing_fraction": critical_packing_fraction,
+                    "grain_density": grain_density}
+                   if critical_packing_fraction is not None else {}),
                 **({"inertial_friction_angle": inertial_friction_angle,
                     "inertial_number_scale": inertial_number_scale,
                     "grain_diameter": grain_diameter, "grain_density": grain_density}

@@ -178,7 +178,7 @@ def sweep_table(cases: list[dict[str, Any]]) -> str:
 
 def _energy_runs(cases: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """The runs of the energy figure: nearest to a = 0.56, to 5.4, and the largest a."""
-    ok = [c for c in cases if "laws" in c and c.get("energy")]
+    ok = [c for c in cases if "laws" in c and c.get("energy") and c.get("status") == "completed"]
     if not ok:
         return []
     picks = [min(ok, key=lambda c: abs(math.log(c["aspect_ratio"] / t))) for t in (0.56, 5.4)]
@@ -187,7 +187,9 @@ def _energy_runs(cases: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 
 def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any], figures: bool = True) -> str:
-    ok = [c for c in cases if "laws" in c and c.get("runout_normalised", 0) > 0]
+    # A failed run (e.g. a particle left the grid) still has a last frame with laws, but not a
+    # deposit: it is tabulated with its status and left out of the fit and the figures.
+    ok = [c for c in cases if "laws" in c and c.get("runout_normalised", 0) > 0 and c.get("status") == "completed"]
     a = [c["aspect_ratio"] for c in ok]
     y = [c["runout_normalised"] for c in ok]
     fits = fit_two_branches(a, y) if len(ok) >= 4 else None
@@ -197,7 +199,11 @@ def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any
         if cases:
             cases[0]["sweep_fit"] = fits  # validation.json keeps it with the first record
     energy_runs = _energy_runs(cases)
+    animations = ""
     if figures and ok:
+        from .case import write_animations
+
+        animations = write_animations(ok, out)
         plot_sweep_laws(ok, fits, out / "sweep_laws.png")
         if energy_runs:
             plot_energy([(f"{c['name']}: a = {c['aspect_ratio']:.3g}", out / c["run_dir"]) for c in energy_runs],
@@ -249,4 +255,5 @@ the scheme loses (released − all terms).
 
 *(R∞ − R_i)/R_i against a: axmpm (dots), the laws (each branch over its own range; dashed:
 unconfirmed) and the two fitted power laws.*
-"""
+
+{animations}"""

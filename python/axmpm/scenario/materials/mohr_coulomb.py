@@ -1,5 +1,6 @@
 """``model = "mohr_coulomb"``: elastic–perfectly plastic Mohr–Coulomb, non-associated, with
-optional tension cut-off, re-compaction and μ(I) friction (docs/physics.md §5); with
+optional tension cut-off, re-compaction, a disconnected state below the critical packing and
+μ(I) friction (docs/physics.md §5); with
 ``friction_angle = 0`` and ``cohesion > 0`` it is Tresca (undrained clay, c = s_u; §8)."""
 
 from __future__ import annotations
@@ -38,6 +39,15 @@ class MohrCoulomb(ElasticMaterial):
         "stress-free before it carries compression again (Dunatunga & Kamrin 2015); false: the "
         "opened volume is permanent",
     )
+    # Disconnected state (mohr_coulomb.rs, Dunatunga & Kamrin 2015): present = material whose
+    # packing density/grain_density / J falls below it carries no stress.
+    critical_packing_fraction: bounded(0.0, 1.0, lo_open=True, hi_open=True) | None = Field(  # type: ignore[valid-type]
+        None,
+        description="critical (random-loose) packing fraction phi_c, in (0, density/grain_density]: "
+        "material looser than it (J > (density/grain_density)/phi_c) is disconnected and "
+        "stress-free, and re-compacts to it without elastic rebound; needs grain_density; "
+        "excludes recompaction; absent = off",
+    )
     # μ(I) friction (mu_i.rs): present = the friction angle follows the inertial number.
     inertial_friction_angle: bounded(0.0, 90.0, lo_open=True, hi_open=True) | None = Field(  # type: ignore[valid-type]
         None,
@@ -53,8 +63,9 @@ class MohrCoulomb(ElasticMaterial):
         "required with inertial_friction_angle"
     )
     grain_density: Positive | None = Field(  # type: ignore[valid-type]
-        None, description="kg/m³, solid density of the grains (>= density); required with "
-        "inertial_friction_angle"
+        None, description="kg/m³, solid density of the grains (>= density; > density with "
+        "critical_packing_fraction); required with inertial_friction_angle or "
+        "critical_packing_fraction"
     )
 
     @model_validator(mode="after")
@@ -92,4 +103,21 @@ class MohrCoulomb(ElasticMaterial):
                 errors.append((f"{prefix}grain_density",
                                f"must be >= density = {fmt(self.density)} (the bulk density of the grains) "
                                f"(got {fmt(self.grain_density)})"))
+        if self.critical_packing_fraction is not None:
+            if self.recompaction:
+                errors.append((f"{prefix}critical_packing_fraction",
+                               "cannot be combined with recompaction = true (both model separated "
+                               "material: choose one)"))
+            if self.grain_density is None:
+                errors.append((f"{prefix}grain_density", "is required with critical_packing_fraction"))
+            elif not self.grain_density > self.density:
+                errors.append((f"{prefix}grain_density",
+                               f"must be > density = {fmt(self.density)} with critical_packing_fraction "
+                               f"(packing as placed density/grain_density < 1; got {fmt(self.grain_density)})"))
+            else:
+                packing = self.density / self.grain_density
+                if self.critical_packing_fraction > packing:
+                    errors.append((f"{prefix}critical_packing_fraction",
+                                   f"must be in (0, density/grain_density] = (0, {fmt(packing)}] "
+                                   f"(got {fmt(self.critical_packing_fraction)})"))
         return errors
