@@ -1710,6 +1710,11 @@ mod tests {
             assert!((pressure - expected).abs() < 0.02 * expected, "dev {dev} c {c}: p = {pressure}, K ln(J_c/J) = {expected}");
             let plain_pressure = -(q.stress[0] + q.stress[1] + q.stress[2]) / 3.0;
             assert!(plain_pressure > 5.0 * expected, "plain model: p = {plain_pressure} vs {expected}");
+            // Volume bookkeeping: ln J = plastic + elastic volumetric strain (−p/K), the
+            // stress-free compaction booked as negative plastic volume change (up to the
+            // difference between Σ tr dε and ln det F, ~1e-5 here).
+            let elastic_volume = -pressure / k;
+            assert!((p.state[1] + elastic_volume - j.ln()).abs() < 1e-4, "dev {dev} c {c}: {:?}, ln J = {}", p.state, j.ln());
             // Unloading: back to zero stress by J_c (the elastic part returns, nothing more).
             while jacobian_of(&p) <= jc {
                 p.step(&m, stretch, 1.0);
