@@ -144,7 +144,20 @@ impl NodeCondition {
         record: bool,
         impulse: &mut [f64; 2],
     ) {
-        self.correct_nodes_plain(nodes, context, velocity, record, impulse);
+        if record {
+            for &node in nodes {
+                let v = &mut velocity[node as usize];
+                let before = *v;
+                self.correct(v);
+                let m = context.mass[node as usize];
+                impulse[0] += m * (before[0] - v[0]);
+                impulse[1] += m * (before[1] - v[1]);
+            }
+        } else {
+            for &node in nodes {
+                self.correct(&mut velocity[node as usize]);
+            }
+        }
     }
 
     /// [`Self::correct_nodes`] with the energy budget (module doc): a recorded call adds the
@@ -185,32 +198,6 @@ impl NodeCondition {
                 let before = *v;
                 self.correct(v);
                 start_correction[k] = [before[0] - v[0], before[1] - v[1]];
-            }
-        }
-    }
-
-    /// The correction alone (and the impulse), without the energy budget.
-    #[inline]
-    fn correct_nodes_plain(
-        &self,
-        nodes: &[u32],
-        context: &NodalContext,
-        velocity: &mut [[f64; 2]],
-        record: bool,
-        impulse: &mut [f64; 2],
-    ) {
-        if record {
-            for &node in nodes {
-                let v = &mut velocity[node as usize];
-                let before = *v;
-                self.correct(v);
-                let m = context.mass[node as usize];
-                impulse[0] += m * (before[0] - v[0]);
-                impulse[1] += m * (before[1] - v[1]);
-            }
-        } else {
-            for &node in nodes {
-                self.correct(&mut velocity[node as usize]);
             }
         }
     }
