@@ -68,8 +68,9 @@ fn main() {
     hash(&mut h, p.state.iter().enumerate().filter(|(k, _)| Some(k % stride) != skip).map(|(_, v)| *v));
     hash(&mut h, p.corners.iter().flatten().flatten().copied());
     println!(
-        "{scheme} {formulation} threads={threads} N={} steps={steps} {:.3} M particle-steps/s hash={h:016x} bytes/particle={} serial={:.4}",
+        "{scheme} {formulation} threads={threads} isa={} N={} steps={steps} {:.3} M particle-steps/s hash={h:016x} bytes/particle={} serial={:.4}",
 
+        sim.isa().name(),
         p.len(),
         steps as f64 * p.len() as f64 / el / 1e6,
         sim.bytes_per_particle(),

@@ -216,6 +216,7 @@ impl Simulation {
             mass_threshold: 1e-12 * mean_mass,
             volumetric_averaging: s.volumetric_averaging,
             axisymmetric,
+            isa: crate::solver::Isa::detect(),
         };
         let mut constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.
@@ -372,6 +373,18 @@ impl Simulation {
     }
     pub fn threads(&self) -> usize {
         self.pool.current_num_threads()
+    }
+    /// The instruction set the step's loops run with (`solver::isa`; it changes no result).
+    pub fn isa(&self) -> solver::Isa {
+        self.state.parameters.isa
+    }
+    /// Runs the step's loops with `isa` from now on; an error if this CPU does not have it.
+    pub fn set_isa(&mut self, isa: solver::Isa) -> Result<(), String> {
+        if isa == solver::Isa::Avx2 && solver::Isa::best_supported() != solver::Isa::Avx2 {
+            return Err("this CPU does not support AVX2, FMA and BMI2".into());
+        }
+        self.state.parameters.isa = isa;
+        Ok(())
     }
     pub fn material_names(&self) -> &[String] {
         &self.material_names

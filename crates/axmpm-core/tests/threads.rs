@@ -74,6 +74,31 @@ fn collapse_is_bit_identical_on_1_2_3_8_and_16_threads() {
     }
 }
 
+/// The loops compiled with AVX2 (solver/isa.rs) give the same bits as the baseline build, for
+/// every scheme and formulation, with Mohr–Coulomb plasticity and with CPDI2's corners.
+#[test]
+fn avx2_loops_are_bit_identical_to_the_baseline() {
+    use axmpm_core::solver::Isa;
+    if Isa::best_supported() != Isa::Avx2 {
+        eprintln!("skipped: this CPU has no AVX2");
+        return;
+    }
+    for f in ALL_FORMULATIONS {
+        for s in ALL_SHAPES {
+            let cfg = collapse(f, s);
+            let mut fingerprints = Vec::new();
+            for isa in [Isa::Baseline, Isa::Avx2] {
+                let mut sim = Simulation::new(cfg.clone(), 2).unwrap();
+                sim.set_isa(isa).unwrap();
+                assert_eq!(sim.isa(), isa);
+                assert_eq!(sim.advance(1e9, 25).unwrap(), 25);
+                fingerprints.push(fingerprint(&sim));
+            }
+            assert!(fingerprints[0] == fingerprints[1], "{f:?} {s:?}: AVX2 differs from the baseline");
+        }
+    }
+}
+
 #[test]
 fn particles_leaving_their_tiles_zone_keep_results_bit_identical_on_1_2_3_8_and_16_threads() {
     for s in ALL_SHAPES {

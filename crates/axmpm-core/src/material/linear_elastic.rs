@@ -57,6 +57,8 @@ impl Material for LinearElastic {
         p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
     }
 
+    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, _state: &mut [f64], k: &Kinematics) {
         let (d, spin) = rate_of_deformation(&k.velocity_gradient);
         let de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];

@@ -56,6 +56,15 @@ pub trait Material: Send + Sync {
     /// Updates `stress` (and `state`, of length `state_names().len()`) over one step.
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics);
 
+    /// [`Material::update_stress`] compiled with AVX2 (see `solver::isa`): the same operations
+    /// in the same order, so the same result bit for bit.
+    /// SAFETY: call only on a CPU with AVX2, FMA and BMI2 (`solver::Isa::Avx2`).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+    unsafe fn update_stress_avx2(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics) {
+        self.update_stress(stress, state, kinematics)
+    }
+
     /// Stored elastic energy per unit current volume at `stress` (J/m³), for the energy
     /// budget: the complementary energy of isotropic linear elasticity with the model's E and
     /// ν ([`complementary_energy`]); 0 for a model without them.

@@ -816,6 +816,8 @@ impl Material for MohrCoulomb {
         }
     }
 
+    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
         // Hypoelastic Jaumann trial, identical (bit for bit) to LinearElastic.
         let (d, spin) = rate_of_deformation(&k.velocity_gradient);

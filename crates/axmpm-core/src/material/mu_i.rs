@@ -199,6 +199,8 @@ impl Material for InertialMohrCoulomb {
         }
     }
 
+    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
         let (d, _) = rate_of_deformation(&k.velocity_gradient);
         let inertial_number = self.inertial_number(stress, &d);

@@ -61,6 +61,8 @@ impl Material for NeoHookean {
         p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
     }
 
+    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, _state: &mut [f64], k: &Kinematics) {
         *stress = self.cauchy_stress(&k.deformation_gradient);
     }

@@ -140,6 +140,8 @@ impl Material for VonMises {
         &STATE_NAMES
     }
 
+    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
         // Elastic predictor: LinearElastic::update_stress, operation for operation.
         let (d, spin) = rate_of_deformation(&k.velocity_gradient);

@@ -50,6 +50,7 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
     let displacements = Shared::new(&mut state.scratch.displacement);
     let particles = &state.particles;
     let order = &state.tiles;
+    let isa = state.parameters.isa;
     let mut serial = std::time::Duration::ZERO;
     for c in 0..COLOURS {
         let range = order.colour(c);
@@ -58,7 +59,10 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
             // to nodes inside its zone, and zones of one colour are disjoint.
             let (v, dx) = unsafe { (velocities.slice(tile.range()), displacements.slice(tile.range())) };
             let zone = if reach.overflow { Some(tile.zone()) } else { None };
-            unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, zone, v, dx, false) };
+            isa.run(
+                #[inline(always)]
+                || unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, zone, v, dx, false) },
+            );
         });
         if musl {
             // The particles that left their tile's zone re-map on this thread, in array order.
@@ -67,7 +71,10 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
                 if reach.overflow {
                     // SAFETY: nothing else runs now.
                     let (v, dx) = unsafe { (velocities.slice(tile.range()), displacements.slice(tile.range())) };
-                    unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, Some(tile.zone()), v, dx, true) };
+                    isa.run(
+                        #[inline(always)]
+                        || unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, Some(tile.zone()), v, dx, true) },
+                    );
                 }
             }
             serial += serial_start.elapsed();

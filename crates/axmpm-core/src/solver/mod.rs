@@ -24,10 +24,12 @@ use crate::particles::Particles;
 
 pub mod grid_to_particle;
 pub mod grid_update;
+pub mod isa;
 pub mod particle_to_grid;
 pub mod particle_update;
 pub mod tiles;
 
+pub use isa::Isa;
 pub use tiles::{Tile, TileOrder};
 
 /// Per-particle scratch arrays reused every step (no allocation in the step loop).
@@ -63,6 +65,8 @@ pub struct StepParameters {
     pub volumetric_averaging: VolumetricAveraging,
     /// The formulation is axisymmetric (for the constraints; the passes know it from `F`).
     pub axisymmetric: bool,
+    /// Instruction set of the passes' loops ([`isa`]; results do not depend on it).
+    pub isa: Isa,
 }
 
 /// Everything the step mutates or reads.

@@ -39,6 +39,7 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
     let particles = &state.particles;
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
+    let isa = state.parameters.isa;
     let mut serial = std::time::Duration::ZERO;
     for c in 0..COLOURS {
         let range = order.colour(c);
@@ -46,7 +47,10 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
             // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only
             // to nodes inside its zone, and zones of one colour are disjoint.
             let cache = unsafe { caches.slice(tile.range()) };
-            *reach = unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, false) };
+            *reach = isa.run(
+                #[inline(always)]
+                || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, false) },
+            );
         });
         // The particles that left their tile's zone, on this thread, in array order.
         let serial_start = std::time::Instant::now();
@@ -54,7 +58,10 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
             if reach.overflow {
                 // SAFETY: nothing else runs now.
                 let cache = unsafe { caches.slice(tile.range()) };
-                unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, true) };
+                isa.run(
+                    #[inline(always)]
+                    || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, true) },
+                );
             }
         }
         serial += serial_start.elapsed();

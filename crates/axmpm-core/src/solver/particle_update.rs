@@ -4,7 +4,7 @@
 
 use rayon::prelude::*;
 
-use super::{first_failure, Failure, Scratch, State};
+use super::{first_failure, Failure, Isa, Scratch, State};
 use crate::config::{UpdateScheme, VolumetricAveraging};
 use crate::formulation::Formulation;
 use crate::grid::GridGeometry;
@@ -29,6 +29,7 @@ struct UpdateInputs<'a> {
     initial_half_width: &'a [[f64; 2]],
     velocity: &'a [[f64; 2]],
     displacement: &'a [[f64; 2]],
+    isa: Isa,
 }
 
 /// The mutable state of one particle in the update pass.
@@ -126,7 +127,12 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     };
     let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, dt };
     let material = &inputs.materials[inputs.material_ids[p] as usize];
-    material.update_stress(u.stress, u.state, &kinematics);
+    match inputs.isa {
+        // SAFETY: `Avx2` is only chosen on a CPU that has it (`Isa::detect`).
+        #[cfg(target_arch = "x86_64")]
+        Isa::Avx2 => unsafe { material.update_stress_avx2(u.stress, u.state, &kinematics) },
+        _ => material.update_stress(u.stress, u.state, &kinematics),
+    }
 
     // All finite at once: x · 0 is ±0 for a finite x and NaN for ±∞ or NaN, so the sum of
     // the products is zero exactly when every value is finite (one test instead of eight).
@@ -188,6 +194,7 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         initial_half_width: &particles.initial_half_width,
         velocity: &particles.velocity,
         displacement,
+        isa: state.parameters.isa,
     };
     let source = if averaging {
         let serial = &mut state.timings.serial;
@@ -196,59 +203,12 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
     } else {
         GradientSource::Stencil
     };
-    let gradient = |inputs: &UpdateInputs, p: usize, domain: &ParticleDomain, c: &S::Cache| match source {
-        GradientSource::Stencil => velocity_gradient::<F, S>(inputs, domain, c),
-        GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
-            with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[inputs.grid.cell_index(domain.position)])
-        }
-    };
-    // One chunk of particles, its arrays as slices of one length: a plain loop per chunk
-    // instead of rayon's per-item plumbing (zipped producers, a reduction per particle).
-    #[allow(clippy::too_many_arguments)]
-    let update_chunk = |k: usize,
-                        f: &mut [DeformationGradient],
-                        stress: &mut [Stress],
-                        volume: &mut [f64],
-                        position: &mut [[f64; 2]],
-                        state: &mut [f64],
-                        cache: &[S::Cache],
-                        mut corners: Option<&mut [[[f64; 2]; 4]]>|
-     -> Option<Failure> {
-        // A local copy, kept in registers across the particle's stores (see P2G); not redundant.
-        #[allow(clippy::redundant_locals)]
-        let inputs = inputs;
-        let first = k * UPDATE_CHUNK;
-        let n = f.len();
-        let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
-        let initial_half_width = &inputs.initial_half_width[first..first + n];
-        let material_ids = &inputs.material_ids[first..first + n];
-        let mut failure = None;
-        for i in 0..n {
-            let p = first + i;
-            let corners = corners.as_mut().map(|c| &mut c[i]);
-            let domain = ParticleDomain {
-                position: position[i],
-                initial_half_width: initial_half_width[i],
-                deformation_gradient: &f[i],
-                corners: corners.as_deref(),
-            };
-            let l = gradient(&inputs, p, &domain, &cache[i]);
-            let slots = i * stride..i * stride + inputs.state_lengths[material_ids[i] as usize];
-            let u = ParticleUpdate {
-                f: &mut f[i],
-                stress: &mut stress[i],
-                volume: &mut volume[i],
-                position: &mut position[i],
-                state: &mut state[slots],
-                corners,
-            };
-            let result = update_particle::<F, S>(&inputs, p, u, &cache[i], l);
-            // The lowest failing index of the chunk (chunks are then reduced the same way).
-            if failure.is_none() {
-                failure = result;
-            }
-        }
-        failure
+    // One chunk of particles per work item, compiled for the instruction set in use.
+    let update_chunk = |k: usize, chunk: ChunkArrays<S>| {
+        inputs.isa.run(
+            #[inline(always)]
+            || update_chunk::<F, S>(&inputs, source, stride, k, chunk),
+        )
     };
     let chunks = particles
         .deformation_gradient
@@ -262,17 +222,84 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         chunks
             .zip(particles.corners.par_chunks_mut(UPDATE_CHUNK))
             .enumerate()
-            .map(|(k, ((((((f, stress), volume), position), s), c), corners))| {
-                update_chunk(k, f, stress, volume, position, s, c, Some(corners))
+            .map(|(k, ((((((f, stress), volume), position), state), cache), corners))| {
+                update_chunk(k, ChunkArrays { f, stress, volume, position, state, cache, corners: Some(corners) })
             })
             .reduce(|| None, first_failure)
     } else {
         chunks
             .enumerate()
-            .map(|(k, (((((f, stress), volume), position), s), c))| update_chunk(k, f, stress, volume, position, s, c, None))
+            .map(|(k, (((((f, stress), volume), position), state), cache))| {
+                update_chunk(k, ChunkArrays { f, stress, volume, position, state, cache, corners: None })
+            })
             .reduce(|| None, first_failure)
     };
     failure.map_or(Ok(()), Err)
+}
+
+/// The arrays of one chunk of particles in the update pass (each of the chunk's length; the
+/// state holds `stride` slots per particle).
+struct ChunkArrays<'a, S: ShapeFunction> {
+    f: &'a mut [DeformationGradient],
+    stress: &'a mut [Stress],
+    volume: &'a mut [f64],
+    position: &'a mut [[f64; 2]],
+    state: &'a mut [f64],
+    cache: &'a [S::Cache],
+    corners: Option<&'a mut [[[f64; 2]; 4]]>,
+}
+
+/// Updates the particles of chunk `k` (particles from `k · UPDATE_CHUNK` on), its arrays as
+/// slices of one length: a plain loop per chunk instead of rayon's per-item plumbing (zipped
+/// producers, a reduction per particle). Returns the chunk's lowest failing particle.
+#[inline(always)]
+fn update_chunk<F: Formulation, S: ShapeFunction>(
+    inputs: &UpdateInputs,
+    source: GradientSource,
+    stride: usize,
+    k: usize,
+    chunk: ChunkArrays<S>,
+) -> Option<Failure> {
+    // A local copy, kept in registers across the particle's stores (see P2G).
+    let inputs = *inputs;
+    let ChunkArrays { f, stress, volume, position, state, cache, mut corners } = chunk;
+    let first = k * UPDATE_CHUNK;
+    let n = f.len();
+    let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
+    let initial_half_width = &inputs.initial_half_width[first..first + n];
+    let material_ids = &inputs.material_ids[first..first + n];
+    let mut failure = None;
+    for i in 0..n {
+        let p = first + i;
+        let corners = corners.as_mut().map(|c| &mut c[i]);
+        let domain = ParticleDomain {
+            position: position[i],
+            initial_half_width: initial_half_width[i],
+            deformation_gradient: &f[i],
+            corners: corners.as_deref(),
+        };
+        let l = match source {
+            GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, &domain, &cache[i]),
+            GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
+                with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[inputs.grid.cell_index(domain.position)])
+            }
+        };
+        let slots = i * stride..i * stride + inputs.state_lengths[material_ids[i] as usize];
+        let u = ParticleUpdate {
+            f: &mut f[i],
+            stress: &mut stress[i],
+            volume: &mut volume[i],
+            position: &mut position[i],
+            state: &mut state[slots],
+            corners,
+        };
+        let result = update_particle::<F, S>(&inputs, p, u, &cache[i], l);
+        // The lowest failing index of the chunk (chunks are then reduced the same way).
+        if failure.is_none() {
+            failure = result;
+        }
+    }
+    failure
 }
 
 /// First pass of the cell-averaged update: every particle's velocity gradient into
