@@ -1,6 +1,6 @@
 //! The four faces of the grid: a condition on the nodes of one grid line.
 
-use super::{Constraint, NodalContext, NodeCondition};
+use super::{ConstrainedNodes, Constraint, NodalContext, NodeCondition};
 use crate::config::{BoundariesConfig, BoundaryCondition, Condition};
 use crate::grid::GridGeometry;
 
@@ -9,13 +9,7 @@ use crate::grid::GridGeometry;
 pub struct GridFace {
     /// "left", "right", "bottom" or "top".
     pub name: &'static str,
-    pub nodes: Vec<u32>,
-    pub condition: NodeCondition,
-    impulse: [f64; 2],
-    /// Kinetic energy removed since the start ([normal, tangential], J per radian or metre).
-    dissipated: [f64; 2],
-    /// Per node, the correction of the last unrecorded call (start-of-step velocity).
-    start_correction: Vec<[f64; 2]>,
+    pub line: ConstrainedNodes,
 }
 
 impl GridFace {
@@ -36,11 +30,10 @@ impl GridFace {
         .filter(|(_, bc, ..)| bc.condition != Condition::Free)
         .map(|(name, bc, axis, outward, nodes)| GridFace {
             name,
-            nodes,
-            condition: NodeCondition { axis, outward, condition: bc.condition, coefficient: bc.coefficient },
-            impulse: [0.0; 2],
-            dissipated: [0.0; 2],
-            start_correction: Vec::new(),
+            line: ConstrainedNodes::new(
+                nodes,
+                NodeCondition { axis, outward, condition: bc.condition, coefficient: bc.coefficient },
+            ),
         })
         .collect()
     }
@@ -52,22 +45,14 @@ impl Constraint for GridFace {
     }
 
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
-        self.condition.correct_nodes_with_energy(
-                &self.nodes,
-                context,
-                velocity,
-                record,
-                &mut self.impulse,
-                &mut self.dissipated,
-                &mut self.start_correction,
-            );
+        self.line.correct(context, velocity, record);
     }
 
     fn take_impulse(&mut self) -> [f64; 2] {
-        std::mem::take(&mut self.impulse)
+        self.line.take_impulse()
     }
 
     fn dissipated_energy(&self) -> [f64; 2] {
-        self.dissipated
+        self.line.dissipated_energy()
     }
 }

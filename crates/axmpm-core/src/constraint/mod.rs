@@ -159,31 +159,44 @@ impl NodeCondition {
             }
         }
     }
+}
 
-    /// [`Self::correct_nodes`] with the energy budget (module doc): a recorded call adds the
-    /// impulse times the corrected velocity, per component, to `dissipated` ([normal, tangential]).
-    #[inline]
-    pub fn correct_nodes_with_energy(
-        &self,
-        nodes: &[u32],
-        context: &NodalContext,
-        velocity: &mut [[f64; 2]],
-        record: bool,
-        impulse: &mut [f64; 2],
-        dissipated: &mut [f64; 2],
-        start_correction: &mut Vec<[f64; 2]>,
-    ) {
+/// A condition on a fixed set of nodes (a grid face or a wall) with its records: the
+/// reaction impulse since it was last taken and the energy budget (module doc). Shared by
+/// [`GridFace`] and [`Wall`], which differ only in the nodes they pick and when they act.
+#[derive(Clone, Debug)]
+pub struct ConstrainedNodes {
+    pub nodes: Vec<u32>,
+    pub condition: NodeCondition,
+    impulse: [f64; 2],
+    /// Kinetic energy removed since the start ([normal, tangential], J per radian or metre).
+    dissipated: [f64; 2],
+    /// Per node, the correction of the last unrecorded call (start-of-step velocity).
+    start_correction: Vec<[f64; 2]>,
+}
+
+impl ConstrainedNodes {
+    pub fn new(nodes: Vec<u32>, condition: NodeCondition) -> Self {
+        Self { nodes, condition, impulse: [0.0; 2], dissipated: [0.0; 2], start_correction: Vec::new() }
+    }
+
+    /// [`NodeCondition::correct_nodes`] with the energy budget (module doc): a recorded call
+    /// adds the impulse times the corrected velocity, per component, to the dissipated energy
+    /// ([normal, tangential]); an unrecorded one (start-of-step velocities) keeps each node's
+    /// correction for it.
+    pub fn correct(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
+        let Self { nodes, condition, impulse, dissipated, start_correction } = self;
         if start_correction.len() != nodes.len() {
             start_correction.clear();
             start_correction.resize(nodes.len(), [0.0; 2]);
         }
         if record {
-            let a = self.axis as usize;
+            let a = condition.axis as usize;
             let t = 1 - a;
             for (k, &node) in nodes.iter().enumerate() {
                 let v = &mut velocity[node as usize];
                 let before = *v;
-                self.correct(v);
+                condition.correct(v);
                 let m = context.mass[node as usize];
                 let j = [m * (before[0] - v[0]), m * (before[1] - v[1])];
                 impulse[0] += j[0];
@@ -196,10 +209,20 @@ impl NodeCondition {
             for (k, &node) in nodes.iter().enumerate() {
                 let v = &mut velocity[node as usize];
                 let before = *v;
-                self.correct(v);
+                condition.correct(v);
                 start_correction[k] = [before[0] - v[0], before[1] - v[1]];
             }
         }
+    }
+
+    /// The impulse recorded since the last call (see [`Constraint::take_impulse`]).
+    pub fn take_impulse(&mut self) -> [f64; 2] {
+        std::mem::take(&mut self.impulse)
+    }
+
+    /// See [`Constraint::dissipated_energy`].
+    pub fn dissipated_energy(&self) -> [f64; 2] {
+        self.dissipated
     }
 }
 

@@ -2,22 +2,16 @@
 //! beyond (away from the material side), optionally removed at a given time (column collapse:
 //! the gate is lifted).
 
-use super::{Constraint, NodalContext, NodeCondition};
+use super::{ConstrainedNodes, Constraint, NodalContext, NodeCondition};
 use crate::config::{Axis, Condition, Side, WallConfig};
 use crate::grid::GridGeometry;
 
 #[derive(Clone, Debug)]
 pub struct Wall {
     pub name: String,
-    pub nodes: Vec<u32>,
-    pub condition: NodeCondition,
+    pub line: ConstrainedNodes,
     /// Time at which the wall disappears (`f64::INFINITY` = never).
     pub removal_time: f64,
-    impulse: [f64; 2],
-    /// Kinetic energy removed since the start ([normal, tangential], J per radian or metre).
-    dissipated: [f64; 2],
-    /// Per node, the correction of the last unrecorded call (start-of-step velocity).
-    start_correction: Vec<[f64; 2]>,
 }
 
 impl Wall {
@@ -46,19 +40,12 @@ impl Wall {
             })
             .map(|node| node as u32)
             .collect();
+        let condition =
+            NodeCondition { axis: axis as u8, outward, condition: config.condition, coefficient: config.coefficient };
         Some(Self {
             name,
-            nodes,
-            condition: NodeCondition {
-                axis: axis as u8,
-                outward,
-                condition: config.condition,
-                coefficient: config.coefficient,
-            },
+            line: ConstrainedNodes::new(nodes, condition),
             removal_time: config.removal_time.unwrap_or(f64::INFINITY),
-            impulse: [0.0; 2],
-            dissipated: [0.0; 2],
-            start_correction: Vec::new(),
         })
     }
 }
@@ -70,23 +57,15 @@ impl Constraint for Wall {
 
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
         if context.time < self.removal_time {
-            self.condition.correct_nodes_with_energy(
-                &self.nodes,
-                context,
-                velocity,
-                record,
-                &mut self.impulse,
-                &mut self.dissipated,
-                &mut self.start_correction,
-            );
+            self.line.correct(context, velocity, record);
         }
     }
 
     fn take_impulse(&mut self) -> [f64; 2] {
-        std::mem::take(&mut self.impulse)
+        self.line.take_impulse()
     }
 
     fn dissipated_energy(&self) -> [f64; 2] {
-        self.dissipated
+        self.line.dissipated_energy()
     }
 }
