@@ -163,13 +163,46 @@ pub(crate) fn gimp_axes(grid: &GridGeometry, x: [f64; 2], half: [f64; 2], axisym
 
 /// The 2D stencil entries as the tensor product of the 1D weights: S = S_x S_y,
 /// ∇S = (S_x' S_y, S_x S_y'), row by row.
+///
+/// The usual node counts (2 or 3 per direction: a domain of at most one cell) go through
+/// loops of constant length, which the compiler unrolls: same entries, same order, same
+/// arithmetic, without the loop counting of the general case.
 #[inline(always)]
-pub(crate) fn gimp_entries(grid: &GridGeometry, axes: &GimpCache, mut visit: impl FnMut(usize, f64, [f64; 2])) {
+pub(crate) fn gimp_entries(grid: &GridGeometry, axes: &GimpCache, visit: impl FnMut(usize, f64, [f64; 2])) {
     let [ax, ay] = axes;
-    for b in 0..(ay.len as usize).min(4) {
+    match (ax.len, ay.len) {
+        (2, 2) => gimp_entries_of::<2, 2>(grid, axes, visit),
+        (3, 2) => gimp_entries_of::<3, 2>(grid, axes, visit),
+        (2, 3) => gimp_entries_of::<2, 3>(grid, axes, visit),
+        (3, 3) => gimp_entries_of::<3, 3>(grid, axes, visit),
+        (nx, ny) => gimp_entries_general(grid, axes, (nx as usize).min(4), (ny as usize).min(4), visit),
+    }
+}
+
+/// [`gimp_entries`] for `NX` × `NY` nodes.
+#[inline(always)]
+fn gimp_entries_of<const NX: usize, const NY: usize>(
+    grid: &GridGeometry,
+    axes: &GimpCache,
+    visit: impl FnMut(usize, f64, [f64; 2]),
+) {
+    gimp_entries_general(grid, axes, NX, NY, visit)
+}
+
+/// [`gimp_entries`] for `nx` × `ny` nodes (at most 4 × 4).
+#[inline(always)]
+fn gimp_entries_general(
+    grid: &GridGeometry,
+    axes: &GimpCache,
+    nx: usize,
+    ny: usize,
+    mut visit: impl FnMut(usize, f64, [f64; 2]),
+) {
+    let [ax, ay] = axes;
+    for b in 0..ny {
         let row = (ay.first as usize + b) * grid.nodes[0];
         let (wy, dy) = (ay.weight[b], ay.derivative[b]);
-        for a in 0..(ax.len as usize).min(4) {
+        for a in 0..nx {
             let (wx, dx) = (ax.weight[a], ax.derivative[a]);
             visit(row + ax.first as usize + a, wx * wy, [dx * wy, wx * dy]);
         }
