@@ -125,6 +125,15 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         d[1] = ih;
         count = 2;
     }
+    // The usual case: every node on the grid and no zero weight at the ends, so all `count`
+    // nodes are kept as they are (what the loop below would do, without its tests).
+    if k0 >= 0 && k0 + count as i64 <= n as i64 && w[0] > 0.0 && w[count - 1] > 0.0 {
+        ax.first = k0 as u32;
+        ax.len = count as u8;
+        ax.weight = w;
+        ax.derivative = d;
+        return;
+    }
     for c in 0..count {
         let i = k0 + c as i64;
         if i < 0 || i >= n as i64 || (w[c] <= 0.0 && lam > 0.0) {
