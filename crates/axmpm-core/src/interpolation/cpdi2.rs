@@ -80,7 +80,9 @@ enum CornerLayout {
     /// No corners, or a degenerate quadrilateral: the linear hat at the particle position.
     #[default]
     LinearFallback,
-    /// Every node of every corner cell is inside the grid (the usual case): no test per node.
+    /// Every node of every corner cell is inside the grid and no corner lies on or across the
+    /// axis (the usual case): no test per node, and the corners are used as they are
+    /// ([`stencil_corners`] would leave them unchanged).
     Interior,
     /// Some corner cell reaches past the grid edge: nodes outside are dropped.
     Edge,
@@ -116,7 +118,8 @@ impl ShapeFunction for Cpdi2 {
         let (w, wg, v) = corner_weights(&c);
         // 0 < V < ∞ (false for NaN): the same test as `v > 0.0 && v.is_finite()`, in two compares.
         if v > 0.0 && v < f64::INFINITY {
-            let mut interior = true;
+            // r > 0 strictly: `at_least(r, 0)` then returns r itself (−0 could become +0).
+            let mut interior = !axisymmetric || corners.iter().all(|x| x[0] > 0.0);
             for (cell, x) in cache.cells.iter_mut().zip(c) {
                 let located = CellPoint::locate(grid, x);
                 interior &= located.all_nodes_inside(grid);
@@ -138,6 +141,7 @@ impl ShapeFunction for Cpdi2 {
     ) {
         let corners = match (cache.layout, domain.corners) {
             (CornerLayout::LinearFallback, _) | (_, None) => return bilinear_nodes(grid, domain.position, visit),
+            (CornerLayout::Interior, Some(corners)) => *corners,
             (_, Some(corners)) => stencil_corners(corners, axisymmetric),
         };
         let [g1, g2] = cache.gradient_weight;
@@ -194,7 +198,8 @@ impl ShapeFunction for Cpdi2 {
     ) {
         let lo = grid.origin;
         let hi = grid.upper();
-        let located = stencil_corners(corners, axisymmetric);
+        // Where the stencil evaluated the corners (unchanged by the axis clamp when Interior).
+        let located = if cache.layout == CornerLayout::Interior { *corners } else { stencil_corners(corners, axisymmetric) };
         let same = |a: [f64; 2], b: [f64; 2]| a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits();
         for (k, c) in corners.iter_mut().enumerate() {
             let q = [clamp_between(c[0], lo[0], hi[0]), clamp_between(c[1], lo[1], hi[1])];
