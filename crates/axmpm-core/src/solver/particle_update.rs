@@ -316,15 +316,17 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
     cell_dilatation: &mut [f64],
     serial_seconds: &mut f64,
 ) {
-    gradients
-        .par_iter_mut()
-        .zip(cache.par_iter())
-        .enumerate()
-        .with_min_len(256)
-        .for_each(|(p, (l, c))| {
-            let domain = ParticleDomain::of(particles, p);
-            *l = velocity_gradient::<F, S>(inputs, &domain, c);
-        });
+    gradients.par_chunks_mut(UPDATE_CHUNK).zip(cache.par_chunks(UPDATE_CHUNK)).enumerate().for_each(|(k, (ls, cs))| {
+        inputs.isa.run(
+            #[inline(always)]
+            || {
+                for (i, (l, c)) in ls.iter_mut().zip(cs).enumerate() {
+                    let domain = ParticleDomain::of(particles, k * UPDATE_CHUNK + i);
+                    *l = velocity_gradient::<F, S>(inputs, &domain, c);
+                }
+            },
+        )
+    });
     let grid = &inputs.grid;
     let serial_start = std::time::Instant::now();
     cell_volume.fill(0.0);
