@@ -53,6 +53,14 @@ pub trait Material: Send + Sync {
         &[]
     }
 
+    /// Tells the model the fastest P-wave speed the run's time step keeps stable,
+    /// [`crate::simulation::COURANT_LIMIT`] h/Δt (called once, when the run is built). A model
+    /// whose wave speed grows with the deformation may bound it there; the default ignores
+    /// it. Mohr–Coulomb: material dilated beyond J = (max_wave_speed/c0)² (a granular gas,
+    /// stress-free but for re-loading) gets its moduli scaled by that J over its own
+    /// (mohr_coulomb.rs, "Dilute material and the time step").
+    fn limit_wave_speed(&mut self, _max_wave_speed: f64) {}
+
     /// Updates `stress` (and `state`, of length `state_names().len()`) over one step.
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics);
 
