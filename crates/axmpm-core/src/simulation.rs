@@ -228,6 +228,7 @@ impl Simulation {
             mass_threshold: 1e-12 * mean_mass,
             volumetric_averaging: s.volumetric_averaging,
             axisymmetric,
+            cell_jacobian: materials.iter().any(|m| m.needs_cell_jacobian()),
         };
         let mut constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.

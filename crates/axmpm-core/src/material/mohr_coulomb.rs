@@ -115,6 +115,33 @@
 //! * `opening_volumetric_strain` (only with `recompaction = true`): the open volume o ≥ 0 of
 //!   separated material, see below.
 //!
+//! # Dilute material and the time step
+//!
+//! The elastic moduli are those of the material as placed, whatever its density: with
+//! ρ = ρ0/J the P-wave speed of a particle is c(J) = √((λ + 2μ) J/ρ0) = c0 √J. The explicit
+//! step is computed for c0 (`cfl` h/c0), so a particle dilated beyond the step's stability
+//! limit (c(J) Δt/h > 1/√2, [`crate::simulation::COURANT_LIMIT`]) and then re-loaded is
+//! integrated unstably. That is what ended the a = 10 column collapse at 30 cells per radius
+//! with μ(I) (issue 15): at the spreading front particles had dilated stress-free (apex
+//! returns) to J = 10–1000; re-compressed, a particle at J = 1000 (c = 32 c0, Courant number
+//! 12.7 at `cfl` = 0.4) went from 0.8 to 51 m/s in three steps, a cluster around it followed,
+//! and a particle left the grid. Such material is a granular gas (packing φ0/J ≤ 0.2 at the
+//! limit J ≈ 3 of `cfl` = 0.4): it has no contact network, so its true stiffness is nil (the
+//! disconnected state below), and any stiffness below that of the material as placed is
+//! physically admissible.
+//!
+//! The engine therefore tells the model the fastest wave speed its step keeps stable,
+//! c_max = h/(√2 Δt) ([`Material::limit_wave_speed`]), and above
+//! J_s = max(1, (c_max/c0)²) (3.125 at `cfl` = 0.4) the moduli of the trial are scaled by
+//! s = J_s/J: σ_B = σ + Jaumann terms + s (λ tr dε I + 2μ dε), so that c(J) = c_max at any
+//! J > J_s. The return mapping's directions are ratios of the moduli and do not change; the
+//! plastic strain is that of the softer moduli, Δε^p = C (σ_B − σ_C)/s (C the compliance of the
+//! material as placed), so a stress-free dilute particle books all of its strain as plastic.
+//! `elastic_energy` still uses C (the stored energy of such particles is underestimated by
+//! 1/s; they are stress-free but for their re-loading steps). Up to J_s the update is bit for
+//! bit the one without the limit (tested), so runs in which no particle is re-loaded beyond
+//! J_s are unchanged.
+//!
 //! # Re-compaction of separated material (`recompaction = true`)
 //!
 //! Without it, cohesionless material pulled into tension returns to the apex (stress 0) and the
@@ -287,6 +314,9 @@ pub struct MohrCoulomb {
     /// particle's P-wave speed stays within the time step's stability limit (module doc,
     /// "Dilute material and the time step"); ∞ = never (set by [`Material::limit_wave_speed`]).
     pub stable_jacobian: f64,
+    /// With `critical_jacobian`: the disconnection test reads the cell's mean J at the start of
+    /// the step instead of the particle's own (module doc, `cell_averaged_disconnection`).
+    pub cell_averaged_disconnection: bool,
     elastic: LinearElastic,
     lambda: f64,
     mu: f64,
@@ -394,6 +424,7 @@ impl MohrCoulomb {
             recompaction: false,
             critical_jacobian: None,
             stable_jacobian: f64::INFINITY,
+            cell_averaged_disconnection: false,
             elastic: LinearElastic::new(density, youngs_modulus, poisson_ratio),
             lambda,
             mu,
@@ -425,6 +456,12 @@ impl MohrCoulomb {
     /// or off (`None`).
     pub fn with_disconnection(mut self, critical_jacobian: Option<f64>) -> Self {
         self.critical_jacobian = critical_jacobian;
+        self
+    }
+
+    /// The disconnection test on the cell's mean J (true) or the particle's own (module doc).
+    pub fn with_cell_averaged_disconnection(mut self, cell: bool) -> Self {
+        self.cell_averaged_disconnection = cell;
         self
     }
 
@@ -491,9 +528,17 @@ impl MohrCoulomb {
         }
         let recompaction = p.bool_or("recompaction", RECOMPACTION_DEFAULT)?;
         let critical_jacobian = Self::critical_jacobian_of(p, density, recompaction)?;
+        let cell = p.bool_or("cell_averaged_disconnection", false)?;
+        if cell && critical_jacobian.is_none() {
+            return Err(p.error(
+                "cell_averaged_disconnection",
+                "= true needs critical_packing_fraction (it changes how the disconnected state is detected)",
+            ));
+        }
         Ok(Self::new(density, youngs_modulus, poisson_ratio, phi, psi, coh, st)
             .with_recompaction(recompaction)
-            .with_disconnection(critical_jacobian))
+            .with_disconnection(critical_jacobian)
+            .with_cell_averaged_disconnection(cell))
     }
 
     /// J_c = ρ0/(φ_c ρ_s) from `critical_packing_fraction` (φ_c) and `grain_density` (ρ_s), or
@@ -859,7 +904,12 @@ impl Material for MohrCoulomb {
         }
         let mut disconnected = false;
         if let Some(jc) = self.critical_jacobian {
-            if k.jacobian > jc {
+            if self.cell_averaged_disconnection {
+                // The cell's start-of-step mean J: once it is ≤ J_c the whole step is done
+                // connected, and the compaction down to J_c was done disconnected in the
+                // steps before, stress-free: nothing to take out of this step's increment.
+                disconnected = k.cell_jacobian > jc;
+            } else if k.jacobian > jc {
                 disconnected = true;
             } else {
                 Self::reconnect(&mut de, state, k.jacobian, jc);
@@ -891,6 +941,10 @@ impl Material for MohrCoulomb {
             return;
         }
         self.return_trial(stress, state, tr, separated, k.jacobian, scale);
+    }
+
+    fn needs_cell_jacobian(&self) -> bool {
+        self.cell_averaged_disconnection
     }
 
     fn limit_wave_speed(&mut self, max_wave_speed: f64) {
@@ -1783,7 +1837,7 @@ mod tests {
         for j in [0.9, 1.3] {
             let mut s = sigma;
             let mut state = [0.0; 4];
-            let k = Kinematics { velocity_gradient: [0.0; 5], deformation_gradient: [1.0, 0.0, 0.0, 1.0, j], jacobian: j, dt: 1.0 };
+            let k = Kinematics { velocity_gradient: [0.0; 5], deformation_gradient: [1.0, 0.0, 0.0, 1.0, j], jacobian: j, cell_jacobian: j, dt: 1.0 };
             m.update_stress(&mut s, &mut state, &k);
             if j < jc {
                 assert_eq!((s, state), (sigma, [0.0; 4]), "connected and elastic");
@@ -2268,7 +2322,7 @@ mod tests {
     // ---------------------------------------------------------------- dilute material, time step
 
     fn at_jacobian(l: [f64; 5], dt: f64, jacobian: f64) -> Kinematics {
-        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian, dt }
+        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian, cell_jacobian: jacobian, dt }
     }
 
     /// P-wave speed a stress increment implies: c² = (Δσ_11/Δε_11) J/ρ0 for a uniaxial strain
@@ -2340,5 +2394,30 @@ mod tests {
             let want = gamma / 3f64.sqrt();
             assert!((state[0] - want).abs() < 1e-9 * want, "J = {jacobian}: plastic shear {} vs {want}", state[0]);
         }
+    }
+
+    /// `cell_averaged_disconnection`: the test reads the cell's mean J, not the particle's.
+    #[test]
+    fn cell_averaged_disconnection_follows_the_cells_mean_jacobian() {
+        let jc = 1.2;
+        let own = disconnecting(25.0, 0.0, jc);
+        let cell = disconnecting(25.0, 0.0, jc).with_cell_averaged_disconnection(true);
+        assert!(cell.needs_cell_jacobian() && !own.needs_cell_jacobian());
+        let dt = 1e-4;
+        let compress = [-1e-3 / dt, 0.0, 0.0, -1e-3 / dt, 0.0];
+        let step = |m: &MohrCoulomb, jacobian: f64, cell_jacobian: f64| {
+            let mut s = [-100.0, -100.0, -100.0, 0.0];
+            let mut state = [0.0; 4];
+            let k = Kinematics { velocity_gradient: compress, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0],
+                                 jacobian, cell_jacobian, dt };
+            m.update_stress(&mut s, &mut state, &k);
+            s
+        };
+        // A loose particle (J = 2) in a dense cell (J̄ = 1.1) is connected: it is compressed.
+        assert!(step(&cell, 2.0, 1.1)[0] < -100.0);
+        assert_eq!(step(&own, 2.0, 1.1), [0.0; 4]);
+        // A dense particle (J = 1.1) in a loose cell (J̄ = 2) is disconnected: stress-free.
+        assert_eq!(step(&cell, 1.1, 2.0), [0.0; 4]);
+        assert!(step(&own, 1.1, 2.0)[0] < -100.0);
     }
 }

@@ -174,6 +174,7 @@ impl InertialMohrCoulomb {
             .with_recompaction(b.recompaction)
             .with_disconnection(b.critical_jacobian)
             .with_stable_jacobian(b.stable_jacobian)
+            .with_cell_averaged_disconnection(b.cell_averaged_disconnection)
     }
 }
 
@@ -202,6 +203,9 @@ impl Material for InertialMohrCoulomb {
 
     fn limit_wave_speed(&mut self, max_wave_speed: f64) {
         self.base.limit_wave_speed(max_wave_speed);
+    }
+    fn needs_cell_jacobian(&self) -> bool {
+        self.base.needs_cell_jacobian()
     }
 
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
@@ -233,7 +237,7 @@ mod tests {
     }
 
     fn kinematics(l: [f64; 5], dt: f64) -> Kinematics {
-        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, dt }
+        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, cell_jacobian: 1.0, dt }
     }
 
     #[test]
@@ -314,7 +318,7 @@ mod tests {
         // A dilute particle (J = 900) sheared fast (μ > μ_s) while compressed: its re-loading
         // stiffness is s = 9/900 of the material's.
         let dt = 1e-5;
-        let k = Kinematics { jacobian: 900.0, ..kinematics([-1e-6 / dt, 5e-6 / dt, 0.0, 0.0, 0.0], dt) };
+        let k = Kinematics { jacobian: 900.0, cell_jacobian: 900.0, ..kinematics([-1e-6 / dt, 5e-6 / dt, 0.0, 0.0, 0.0], dt) };
         let (mut a, mut b) = ([-10.0, -10.0, -10.0, 0.0], [-10.0, -10.0, -10.0, 0.0]);
         let (mut sa, mut sb) = ([0.0; 4], [0.0; 4]);
         m.update_stress(&mut a, &mut sa, &k);

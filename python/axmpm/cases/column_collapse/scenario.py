@@ -30,6 +30,8 @@ DEFAULTS: dict[str, Any] = {
     # Disconnected state (mohr_coulomb.rs, Dunatunga & Kamrin 2015): None = off; φ_c makes
     # sand looser than φ_c (J > density/(grain_density φ_c)) stress-free.
     "critical_packing_fraction": None,
+    # With it: the disconnection test on the cell's mean J instead of each particle's own.
+    "cell_averaged_disconnection": False,
     # μ(I) friction (mu_i.rs): None = rate-independent Mohr–Coulomb at friction_angle; an
     # angle φ₂ makes friction_angle the static angle of sin φ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I).
     "inertial_friction_angle": None,  # degrees
@@ -87,6 +89,7 @@ def collapse_scenario(
     cohesion: float = DEFAULTS["cohesion"],
     recompaction: bool = DEFAULTS["recompaction"],
     critical_packing_fraction: float | None = DEFAULTS["critical_packing_fraction"],
+    cell_averaged_disconnection: bool = DEFAULTS["cell_averaged_disconnection"],
     inertial_friction_angle: float | None = DEFAULTS["inertial_friction_angle"],
     inertial_number_scale: float = DEFAULTS["inertial_number_scale"],
     grain_diameter: float = DEFAULTS["grain_diameter"],
@@ -158,6 +161,7 @@ def collapse_scenario(
                 **({"critical_packing_fraction": critical_packing_fraction,
                     "grain_density": grain_density}
                    if critical_packing_fraction is not None else {}),
+                **({"cell_averaged_disconnection": True} if cell_averaged_disconnection else {}),
                 **({"inertial_friction_angle": inertial_friction_angle,
                     "inertial_number_scale": inertial_number_scale,
                     "grain_diameter": grain_diameter, "grain_density": grain_density}
