@@ -94,6 +94,12 @@ def test_plane_strain_grid_leaves_room_for_planar_spreading():
         d = collapse_scenario(a, cell_size=0.002, formulation="plane_strain", as_dict=True)
         R_i = d["bodies"][0]["max"][0]
         assert d["grid"]["extent"][0] / R_i - 1.0 > 1.5 * reach
-    # the axisymmetric grid is unchanged: Lube et al. 2004, R_i (2 + 2.5 (R∞ − R_i)/R_i)
+    # ... and two cells behind the back wall (a roller wall at x = 0), as below the base: the
+    # a = 5.4 and 10 columns lost a particle carried a hair behind x = 0 without them.
+    d = collapse_scenario(5.4, cell_size=0.002, formulation="plane_strain", as_dict=True)
+    assert d["grid"]["origin"] == pytest.approx([-0.004, -0.004])
+    assert {"axis": "x", "position": 0.0, "material_side": "positive", "condition": "roller"} in d["walls"]
+    # the axisymmetric grid is unchanged: from the axis, Lube et al. 2004, R_i (2 + 2.5 (R∞ − R_i)/R_i)
     d = collapse_scenario(5.4, cell_size=0.002, formulation="axisymmetric", as_dict=True)
-    assert d["grid"]["extent"][0] == pytest.approx(0.34)
+    assert d["grid"]["extent"][0] == pytest.approx(0.34) and d["grid"]["origin"][0] == 0.0
+    assert all(w.get("removal_time") is not None for w in d["walls"] if w["axis"] == "x")

@@ -57,6 +57,10 @@ DEFAULTS: dict[str, Any] = {
     # Cells of grid below the base (a friction wall at z = 0 acts on them): a particle that
     # interpolation carries a hair below the base stays on the grid instead of ending the run.
     "cells_below_base": 2,
+    # Plane strain: as many cells of grid behind the back wall (x = 0, a roller wall), for the
+    # same reason: with the grid starting at x = 0 the a = 5.4 and 10 columns ended with a
+    # particle carried a hair behind it (x = −7.5e-8 m, "left the grid"). In axisymmetry the
+    # grid must start at the axis (none).
     "rest_check_after": 0.1,  # s after the release
     "formulation": "axisymmetric",
 }
@@ -131,6 +135,7 @@ def collapse_scenario(
     n_dr = max(n_r + 2, int(math.ceil(domain_radius / h - 1e-9)))
     n_below = max(0, int(cells_below_base))
     n_dz = n_z + 4 + n_below
+    n_behind = n_below if formulation == "plane_strain" else 0
     data: dict[str, Any] = {
         "simulation": {
             "formulation": formulation,
@@ -146,7 +151,8 @@ def collapse_scenario(
             "settle_window": settle_window,
             "stop_at_rest_after": release_time + rest_check_after,
         },
-        "grid": {"origin": [0.0, -n_below * h], "extent": [n_dr * h, n_dz * h], "cell_size": h},
+        "grid": {"origin": [-n_behind * h, -n_below * h], "extent": [(n_dr + n_behind) * h, n_dz * h],
+                 "cell_size": h},
         "materials": {
             "sand": {
                 "model": "mohr_coulomb",
@@ -189,7 +195,10 @@ def collapse_scenario(
             # The base, when the grid reaches below it (else the bottom face is the base).
             {"axis": "y", "position": 0.0, "material_side": "positive", "condition": "friction",
              "coefficient": mu},
-        ] if n_below else []) + [
+        ] if n_below else []) + ([
+            # Plane strain: the back wall (symmetry plane), when the grid reaches behind it.
+            {"axis": "x", "position": 0.0, "material_side": "positive", "condition": "roller"},
+        ] if n_behind else []) + [
             {
                 "axis": "x",
                 "position": R_i,
