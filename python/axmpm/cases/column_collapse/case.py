@@ -367,7 +367,13 @@ def report_text(out: Path, data: dict[str, Any], figures: bool = True) -> str:
         animations = write_animations(analysed, out)
     cpr = sorted({round(c["cells_per_radius"], 1) for c in analysed})
     worst = max((abs(c["laws"][primary_key(c)]["runout_normalised_rel_diff"]) for c in analysed), default=0.0)
-    return f"""# axmpm validation: axisymmetric granular column collapse
+    planar = data["formulation"] == "plane_strain"
+    law_note = ("\n\nPlane strain: the runs are compared with the planar laws (a slab against the channel's back "
+                "wall; R_i stands for its length L_i): Lube et al. 2005 in the table, all planar laws in laws.png; "
+                "every coefficient is a secondary quotation of medium–low confidence, unconfirmed "
+                "(docs/validation.md, plane strain). The axisymmetric notes below do not apply to them."
+                if planar else "")
+    return f"""# axmpm validation: {data['formulation'].replace('_', ' ')} granular column collapse
 
 Formulation: {data['formulation']}. Overrides: {', '.join(data['overrides']) or 'none'}.
 Laws and their sources: `axmpm/cases/column_collapse/laws.py`, docs/validation-sources.md. Analysis
@@ -375,7 +381,7 @@ rules (runout of the continuous deposit, H∞ as the deposit surface at the axis
 
 ## Results
 
-{results_table(cases)}
+{results_table(cases)}{law_note}
 
 Runout differences are relative to Lube et al. 2004's (R∞ − R_i)/R_i (the only runout law
 whose coefficients are confirmed); the largest is {100 * worst:.0f} %. R∞ is where the deposit
