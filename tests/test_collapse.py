@@ -132,6 +132,9 @@ def test_builder_critical_packing_fraction():
     assert sand.critical_packing_fraction is None and sand.grain_density is None  # off by default
     sand = collapse_scenario(0.8, critical_packing_fraction=0.55).materials["sand"]
     assert sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
+    assert sand.cell_averaged_disconnection is False  # off by default
+    sand = collapse_scenario(0.8, critical_packing_fraction=0.55, cell_averaged_disconnection=True).materials["sand"]
+    assert sand.cell_averaged_disconnection is True
 
 
 def test_examples_match_builder():

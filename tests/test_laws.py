@@ -82,3 +82,28 @@ def test_compare_relative_differences():
         get_law("nope")
     with pytest.raises(ValueError):
         LUBE_2004.predict(0.0)
+
+
+def test_planar_laws_are_unconfirmed_and_tabulated_for_plane_strain():
+    from axmpm.cases.column_collapse.laws import (KUMAR_2015_DEM, LAJEUNESSE_2005_PLANAR, LUBE_2005_PLANAR,
+                                                  PLANAR_LAWS, laws_for, primary_law)
+
+    # PHYSICS.md §6a: secondary quotations of medium–low confidence: none confirmed (dashed).
+    for law in PLANAR_LAWS:
+        assert law.source and law.via and not law.confirmed
+        assert all(not r.confirmed for r in law.runout)
+    assert LUBE_2005_PLANAR.predict(1.0).runout == pytest.approx(1.2)
+    assert LUBE_2005_PLANAR.predict(5.4).runout == pytest.approx(1.9 * 5.4 ** (2 / 3))
+    assert LAJEUNESSE_2005_PLANAR.predict(2.0).runout == pytest.approx(3.6)
+    assert LAJEUNESSE_2005_PLANAR.predict(10.0).runout == pytest.approx(2.3 * 10 ** (2 / 3))
+    assert KUMAR_2015_DEM.predict(1.0).runout == pytest.approx(1.67)
+    assert laws_for("plane_strain") is PLANAR_LAWS and laws_for("axisymmetric") is LAWS
+    assert primary_law("plane_strain") is LUBE_2005_PLANAR and primary_law() is LUBE_2004
+    with pytest.raises(ValueError):
+        laws_for("3d")
+    out = compare(5.4, 7.0, 1.0, 0.03, "plane_strain")
+    assert set(out) == {"lube2005_planar", "lajeunesse2005_planar", "kumar2015_dem"}
+    lube = out["lube2005_planar"]
+    assert lube["runout_confirmed"] is False
+    assert lube["runout_normalised_rel_diff"] == pytest.approx(7.0 / (1.9 * 5.4 ** (2 / 3)) - 1.0)
+    assert get_law("kumar2015_dem") is KUMAR_2015_DEM

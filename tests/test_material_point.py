@@ -274,9 +274,18 @@ def test_disconnected_sand_is_stress_free_and_recompacts_without_rebound():
     ({"grain_density": 1500.0}, "grain_density", "must be > density = 1550"),
     ({"grain_density": None}, "grain_density", "is required with critical_packing_fraction"),
     ({"recompaction": True}, "critical_packing_fraction", "cannot be combined with recompaction"),
+    ({"cell_averaged_disconnection": 1}, "cell_averaged_disconnection", "boolean"),
 ])
 def test_disconnection_input_errors_name_the_field(extra, field, message):
     with pytest.raises(ScenarioError) as info:
         validate_material(disconnecting(**extra))
     text = str(info.value)
     assert field in text and message in text, text
+
+
+def test_cell_averaged_disconnection_needs_the_critical_packing():
+    with pytest.raises(ScenarioError) as info:
+        validate_material({**mc(), "cell_averaged_disconnection": True})
+    text = str(info.value)
+    assert "cell_averaged_disconnection" in text and "needs critical_packing_fraction" in text, text
+    validate_material(disconnecting(cell_averaged_disconnection=True))  # accepted with it

@@ -62,3 +62,44 @@ def test_failed_runs_are_tabulated_but_not_fitted(tmp_path):
     fits = cases[0]["sweep_fit"]
     assert fits["above"]["a_max"] == 7.0 and abs(fits["above"]["beta"] - 0.5) < 1e-9, fits
     assert "| a10 |" in text and "failed" in text
+
+
+def test_plane_strain_sweep_is_tabulated_against_the_planar_laws(tmp_path):
+    from axmpm.cases.column_collapse.laws import compare
+    from axmpm.cases.column_collapse.sweep_report import sweep_report
+
+    cases = [{"name": f"a{a:g}", "aspect_ratio": a, "cells_per_radius": 15.0, "runout_normalised": 2.0 * a**0.7,
+              "final_height_normalised": 0.7, "volume_ratio_mean": 1.0, "status": "completed",
+              "formulation": "plane_strain", "laws": compare(a, 2.0 * a**0.7, 0.7, 0.03, "plane_strain"),
+              "run_dir": f"cases/column_collapse/a{a:g}"} for a in (0.5, 0.8, 1.7, 2.5, 5.4, 10.0)]
+    text = sweep_report(cases, tmp_path, {"formulation": "plane_strain", "overrides": []}, figures=False)
+    header = next(line for line in text.splitlines() if line.startswith("| run |"))
+    assert "Lube 2005 | diff | Lajeunesse 2005 | diff | Kumar 2D DEM | diff" in header
+    assert "Lube 2004" not in header
+    row = next(line for line in text.splitlines() if line.startswith("| a5.4 |"))
+    want = 1.9 * 5.4 ** (2 / 3)
+    assert f"{want:.3f} (unconf.)" in row  # every planar branch is unconfirmed
+    assert "1.9 a^(2/3)" in text  # the comparison text names the planar laws
+    # every row has as many cells as the header
+    rows = [line for line in text.splitlines() if line.startswith("| a")]
+    assert all(r.count("|") == header.count("|") for r in rows)
+
+
+def test_plane_strain_grid_leaves_room_for_planar_spreading():
+    from axmpm.cases.column_collapse.scenario import collapse_scenario
+
+    # The a = 5.4 plane-strain column used to leave a grid sized by the cylinder's law at
+    # (R − R_i)/R_i = 9.2, still moving; the grid must now reach well beyond that.
+    for a, reach in ((5.4, 9.2), (10.0, 12.0)):
+        d = collapse_scenario(a, cell_size=0.002, formulation="plane_strain", as_dict=True)
+        R_i = d["bodies"][0]["max"][0]
+        assert d["grid"]["extent"][0] / R_i - 1.0 > 1.5 * reach
+    # ... and two cells behind the back wall (a roller wall at x = 0), as below the base: the
+    # a = 5.4 and 10 columns lost a particle carried a hair behind x = 0 without them.
+    d = collapse_scenario(5.4, cell_size=0.002, formulation="plane_strain", as_dict=True)
+    assert d["grid"]["origin"] == pytest.approx([-0.004, -0.004])
+    assert {"axis": "x", "position": 0.0, "material_side": "positive", "condition": "roller"} in d["walls"]
+    # the axisymmetric grid is unchanged: from the axis, Lube et al. 2004, R_i (2 + 2.5 (R∞ − R_i)/R_i)
+    d = collapse_scenario(5.4, cell_size=0.002, formulation="axisymmetric", as_dict=True)
+    assert d["grid"]["extent"][0] == pytest.approx(0.34) and d["grid"]["origin"][0] == 0.0
+    assert all(w.get("removal_time") is not None for w in d["walls"] if w["axis"] == "x")

@@ -15,6 +15,12 @@ use crate::solver::{self, Failure, Scratch, State, StepParameters, Tile, TileOrd
 
 type StepFn = fn(&mut State, f64, [f64; 2]) -> Result<(), Failure>;
 
+/// Courant number c Δt/h at which the explicit step on a square grid of cell size h becomes
+/// unstable in 2D: the grid's highest mode (the checkerboard) oscillates at ω = 2√2 c/h, and
+/// central differences need ω Δt ≤ 2, i.e. c Δt/h ≤ 1/√2. `simulation.cfl` (default 0.4)
+/// keeps the material as placed below it; [`Material::limit_wave_speed`] gets c = this × h/Δt.
+pub const COURANT_LIMIT: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
 /// A run that produced an invalid state (NaN, particle outside the grid, inverted element).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimulationFailure {
@@ -152,7 +158,7 @@ impl Simulation {
     fn build(config: Config, threads: usize, restored: Option<(Particles, f64, u64, Vec<Tile>)>) -> Result<Self, String> {
         config.validate()?;
         let material_names: Vec<String> = config.materials.keys().cloned().collect();
-        let materials: Vec<Box<dyn Material>> = config
+        let mut materials: Vec<Box<dyn Material>> = config
             .materials
             .iter()
             .map(|(name, m)| material::build(name, m))
@@ -208,6 +214,12 @@ impl Simulation {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(format!("time step {dt} is not positive; check the materials' stiffness and density"));
         }
+        // The step is computed for the materials as placed; a model whose wave speed grows
+        // with the deformation (hypoelastic moduli in dilated material) may bound it here.
+        let max_wave_speed = COURANT_LIMIT * g.cell_size / dt;
+        for m in materials.iter_mut() {
+            m.limit_wave_speed(max_wave_speed);
+        }
         let mean_mass = particles.mass.iter().sum::<f64>() / particles.len() as f64;
         let parameters = StepParameters {
             flip_fraction: s.flip_fraction,
@@ -217,6 +229,7 @@ impl Simulation {
             volumetric_averaging: s.volumetric_averaging,
             axisymmetric,
             isa: crate::solver::Isa::detect(),
+            cell_jacobian: materials.iter().any(|m| m.needs_cell_jacobian()),
         };
         let mut constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.

@@ -240,7 +240,7 @@ fn material_response<'py>(
             (1.0 + dt * g[4]) * f[4],
         ];
         let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
-        model.update_stress(&mut stress, &mut state, &Kinematics { velocity_gradient: g, deformation_gradient: f, jacobian, dt });
+        model.update_stress(&mut stress, &mut state, &Kinematics { velocity_gradient: g, deformation_gradient: f, jacobian, cell_jacobian: jacobian, dt });
         stresses.extend_from_slice(&stress);
         states.extend_from_slice(&state);
     }

@@ -75,7 +75,7 @@ mod tests {
     use super::*;
 
     fn kin(l: [f64; 5], dt: f64) -> Kinematics {
-        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, dt }
+        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, cell_jacobian: 1.0, dt }
     }
 
     #[test]

@@ -35,6 +35,11 @@ pub struct Kinematics {
     pub deformation_gradient: DeformationGradient,
     /// Jacobian det F at the end of the step (3D, including F33).
     pub jacobian: f64,
+    /// Σ V / Σ V0 of the particles whose centre lies in this particle's background cell, at
+    /// the start of the step (the cell's mean J, whose packing φ0/J̄ is the continuum's); the
+    /// solver computes it only when a material asks ([`Material::needs_cell_jacobian`]),
+    /// and passes `jacobian` otherwise.
+    pub cell_jacobian: f64,
     pub dt: f64,
 }
 
@@ -51,6 +56,20 @@ pub trait Material: Send + Sync {
     /// Names of the per-particle state variables this model keeps (e.g. plastic strain).
     fn state_names(&self) -> &'static [&'static str] {
         &[]
+    }
+
+    /// Tells the model the fastest P-wave speed the run's time step keeps stable,
+    /// [`crate::simulation::COURANT_LIMIT`] h/Δt (called once, when the run is built). A model
+    /// whose wave speed grows with the deformation may bound it there; the default ignores
+    /// it. Mohr–Coulomb: material dilated beyond J = (max_wave_speed/c0)² (a granular gas,
+    /// stress-free but for re-loading) gets its moduli scaled by that J over its own
+    /// (mohr_coulomb.rs, "Dilute material and the time step").
+    fn limit_wave_speed(&mut self, _max_wave_speed: f64) {}
+
+    /// The model reads [`Kinematics::cell_jacobian`] (Mohr–Coulomb's
+    /// `cell_averaged_disconnection`): the solver then computes the cells' mean J each step.
+    fn needs_cell_jacobian(&self) -> bool {
+        false
     }
 
     /// Updates `stress` (and `state`, of length `state_names().len()`) over one step.

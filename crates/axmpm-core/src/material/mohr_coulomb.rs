@@ -115,6 +115,33 @@
 //! * `opening_volumetric_strain` (only with `recompaction = true`): the open volume o ≥ 0 of
 //!   separated material, see below.
 //!
+//! # Dilute material and the time step
+//!
+//! The elastic moduli are those of the material as placed, whatever its density: with
+//! ρ = ρ0/J the P-wave speed of a particle is c(J) = √((λ + 2μ) J/ρ0) = c0 √J. The explicit
+//! step is computed for c0 (`cfl` h/c0), so a particle dilated beyond the step's stability
+//! limit (c(J) Δt/h > 1/√2, [`crate::simulation::COURANT_LIMIT`]) and then re-loaded is
+//! integrated unstably. That is what ended the a = 10 column collapse at 30 cells per radius
+//! with μ(I) (issue 15): at the spreading front particles had dilated stress-free (apex
+//! returns) to J = 10–1000; re-compressed, a particle at J = 1000 (c = 32 c0, Courant number
+//! 12.7 at `cfl` = 0.4) went from 0.8 to 51 m/s in three steps, a cluster around it followed,
+//! and a particle left the grid. Such material is a granular gas (packing φ0/J ≤ 0.2 at the
+//! limit J ≈ 3 of `cfl` = 0.4): it has no contact network, so its true stiffness is nil (the
+//! disconnected state below), and any stiffness below that of the material as placed is
+//! physically admissible.
+//!
+//! The engine therefore tells the model the fastest wave speed its step keeps stable,
+//! c_max = h/(√2 Δt) ([`Material::limit_wave_speed`]), and above
+//! J_s = max(1, (c_max/c0)²) (3.125 at `cfl` = 0.4) the moduli of the trial are scaled by
+//! s = J_s/J: σ_B = σ + Jaumann terms + s (λ tr dε I + 2μ dε), so that c(J) = c_max at any
+//! J > J_s. The return mapping's directions are ratios of the moduli and do not change; the
+//! plastic strain is that of the softer moduli, Δε^p = C (σ_B − σ_C)/s (C the compliance of the
+//! material as placed), so a stress-free dilute particle books all of its strain as plastic.
+//! `elastic_energy` still uses C (the stored energy of such particles is underestimated by
+//! 1/s; they are stress-free but for their re-loading steps). Up to J_s the update is bit for
+//! bit the one without the limit (tested), so runs in which no particle is re-loaded beyond
+//! J_s are unchanged.
+//!
 //! # Re-compaction of separated material (`recompaction = true`)
 //!
 //! Without it, cohesionless material pulled into tension returns to the apex (stress 0) and the
@@ -283,6 +310,13 @@ pub struct MohrCoulomb {
     pub recompaction: bool,
     /// J_c = φ0/φ_c above which the material is disconnected (module doc); `None` = off.
     pub critical_jacobian: Option<f64>,
+    /// J above which the elastic moduli are scaled by `stable_jacobian / J` so that the
+    /// particle's P-wave speed stays within the time step's stability limit (module doc,
+    /// "Dilute material and the time step"); ∞ = never (set by [`Material::limit_wave_speed`]).
+    pub stable_jacobian: f64,
+    /// With `critical_jacobian`: the disconnection test reads the cell's mean J at the start of
+    /// the step instead of the particle's own (module doc, `cell_averaged_disconnection`).
+    pub cell_averaged_disconnection: bool,
     elastic: LinearElastic,
     lambda: f64,
     mu: f64,
@@ -389,6 +423,8 @@ impl MohrCoulomb {
             tension_cutoff,
             recompaction: false,
             critical_jacobian: None,
+            stable_jacobian: f64::INFINITY,
+            cell_averaged_disconnection: false,
             elastic: LinearElastic::new(density, youngs_modulus, poisson_ratio),
             lambda,
             mu,
@@ -421,6 +457,30 @@ impl MohrCoulomb {
     pub fn with_disconnection(mut self, critical_jacobian: Option<f64>) -> Self {
         self.critical_jacobian = critical_jacobian;
         self
+    }
+
+    /// The disconnection test on the cell's mean J (true) or the particle's own (module doc).
+    pub fn with_cell_averaged_disconnection(mut self, cell: bool) -> Self {
+        self.cell_averaged_disconnection = cell;
+        self
+    }
+
+    /// Scales the elastic moduli by `stable_jacobian / J` above J = `stable_jacobian` (module
+    /// doc, "Dilute material and the time step"); ∞ = never.
+    pub fn with_stable_jacobian(mut self, stable_jacobian: f64) -> Self {
+        self.stable_jacobian = stable_jacobian;
+        self
+    }
+
+    /// Factor s ≤ 1 on the elastic moduli of a particle of J = det F: 1 up to
+    /// `stable_jacobian`, `stable_jacobian / J` above (module doc).
+    #[inline(always)]
+    pub fn stiffness_scale(&self, jacobian: f64) -> f64 {
+        if jacobian > self.stable_jacobian {
+            self.stable_jacobian / jacobian
+        } else {
+            1.0
+        }
     }
 
     /// From a material table: the elastic keys, `friction_angle` (required; 0 = Tresca, then
@@ -468,9 +528,17 @@ impl MohrCoulomb {
         }
         let recompaction = p.bool_or("recompaction", RECOMPACTION_DEFAULT)?;
         let critical_jacobian = Self::critical_jacobian_of(p, density, recompaction)?;
+        let cell = p.bool_or("cell_averaged_disconnection", false)?;
+        if cell && critical_jacobian.is_none() {
+            return Err(p.error(
+                "cell_averaged_disconnection",
+                "= true needs critical_packing_fraction (it changes how the disconnected state is detected)",
+            ));
+        }
         Ok(Self::new(density, youngs_modulus, poisson_ratio, phi, psi, coh, st)
             .with_recompaction(recompaction)
-            .with_disconnection(critical_jacobian))
+            .with_disconnection(critical_jacobian)
+            .with_cell_averaged_disconnection(cell))
     }
 
     /// J_c = ρ0/(φ_c ρ_s) from `critical_packing_fraction` (φ_c) and `grain_density` (ρ_s), or
@@ -703,11 +771,12 @@ impl MohrCoulomb {
     /// Δε^p = C σ_B, and max(0, J ½ σ_n : Δε^p) (per unit reference volume; `start` = σ_n with
     /// the step's rotation) is booked as dissipation in `disconnection_work` and `plastic_work`.
     #[inline(always)]
-    fn disconnect(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, start: Stress, jacobian: f64) {
+    fn disconnect(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, start: Stress, jacobian: f64, scale: f64) {
         *stress = [0.0; 4];
         if state.len() > self.plastic_work_slot() {
             let nu = self.poisson_ratio;
-            let e = self.youngs_modulus;
+            // The compliance of the moduli in use, s C (module doc, "Dilute material").
+            let e = self.youngs_modulus * scale;
             let s = nu * (tr[0] + tr[1] + tr[2]);
             let ep = [((1.0 + nu) * tr[0] - s) / e, ((1.0 + nu) * tr[1] - s) / e, ((1.0 + nu) * tr[2] - s) / e];
             // Tensor shear strain ε12 = σ12 / (2G) = (1 + ν) σ12 / E.
@@ -734,7 +803,12 @@ impl MohrCoulomb {
     /// increment: the plastic (frictional) dissipation in J per m³ of reference volume, ≥ 0
     /// for ψ ≤ φ and c ≥ 0 (zero at the apex of c = 0, where σ_C = 0). It is booked only and
     /// never feeds back into the stress update (issue 15: the energy budget).
-    fn return_trial(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, separated: bool, jacobian: f64) {
+    ///
+    /// `scale` = s of [`Self::stiffness_scale`]: the trial was built with the moduli s C⁻¹, so
+    /// the plastic strain is (s C⁻¹)⁻¹ (σ_B − σ_C) = C (σ_B − σ_C)/s. The return itself does
+    /// not depend on s (its directions are ratios of the moduli).
+    fn return_trial(&self, stress: &mut Stress, state: &mut [f64], tr: Stress, separated: bool, jacobian: f64,
+                    scale: f64) {
         // In-plane principal values a ≥ b and their axes; σ33 is principal.
         let centre = 0.5 * (tr[0] + tr[1]);
         let half = 0.5 * (tr[0] - tr[1]);
@@ -767,7 +841,10 @@ impl MohrCoulomb {
         *stress = [c2 + r2 * cos2, c2 - r2 * cos2, new_vals[2], r2 * sin2];
 
         if state.len() >= 2 {
-            let ep = self.plastic_strain(&sorted, &ret);
+            let mut ep = self.plastic_strain(&sorted, &ret);
+            if scale < 1.0 {
+                ep = [ep[0] / scale, ep[1] / scale, ep[2] / scale];
+            }
             let vol = ep[0] + ep[1] + ep[2];
             let m = vol / 3.0;
             let (e0, e1, e2) = (ep[0] - m, ep[1] - m, ep[2] - m);
@@ -829,14 +906,25 @@ impl Material for MohrCoulomb {
         }
         let mut disconnected = false;
         if let Some(jc) = self.critical_jacobian {
-            if k.jacobian > jc {
+            if self.cell_averaged_disconnection {
+                // The cell's start-of-step mean J: once it is ≤ J_c the whole step is done
+                // connected, and the compaction down to J_c was done disconnected in the
+                // steps before, stress-free: nothing to take out of this step's increment.
+                disconnected = k.cell_jacobian > jc;
+            } else if k.jacobian > jc {
                 disconnected = true;
             } else {
                 Self::reconnect(&mut de, state, k.jacobian, jc);
             }
         }
         let rot = jaumann_rotation(stress, spin, k.dt);
-        let inc = self.elastic.elastic_increment(&de);
+        // Dilute material: moduli s C⁻¹ (module doc, "Dilute material and the time step").
+        let scale = self.stiffness_scale(k.jacobian);
+        let inc = if scale < 1.0 {
+            self.elastic.elastic_increment(&[de[0] * scale, de[1] * scale, de[2] * scale, de[3] * scale])
+        } else {
+            self.elastic.elastic_increment(&de)
+        };
         let mut tr = *stress;
         for c in 0..4 {
             tr[c] += inc[c] + rot[c];
@@ -846,7 +934,7 @@ impl Material for MohrCoulomb {
             for c in 0..4 {
                 start[c] += rot[c];
             }
-            self.disconnect(stress, state, tr, start, k.jacobian);
+            self.disconnect(stress, state, tr, start, k.jacobian, scale);
             return;
         }
 
@@ -854,7 +942,18 @@ impl Material for MohrCoulomb {
             *stress = tr;
             return;
         }
-        self.return_trial(stress, state, tr, separated, k.jacobian);
+        self.return_trial(stress, state, tr, separated, k.jacobian, scale);
+    }
+
+    fn needs_cell_jacobian(&self) -> bool {
+        self.cell_averaged_disconnection
+    }
+
+    fn limit_wave_speed(&mut self, max_wave_speed: f64) {
+        // c(J) = c0 √J (hypoelastic moduli, density ρ0/J): c(J) ≤ max_wave_speed up to
+        // J = (max_wave_speed/c0)², never below 1 (the material as placed is unchanged).
+        let ratio = max_wave_speed / self.wave_speed();
+        self.stable_jacobian = if ratio.is_finite() { (ratio * ratio).max(1.0) } else { f64::INFINITY };
     }
 }
 
@@ -1332,9 +1431,9 @@ mod tests {
                     a = tr;
                     fast += 1;
                 } else {
-                    m.return_trial(&mut a, &mut state_a, tr, false, 1.0);
+                    m.return_trial(&mut a, &mut state_a, tr, false, 1.0, 1.0);
                 }
-                m.return_trial(&mut b, &mut state_b, tr, false, 1.0);
+                m.return_trial(&mut b, &mut state_b, tr, false, 1.0, 1.0);
                 assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{tr:?}");
                 assert_eq!(state_a.map(f64::to_bits), state_b.map(f64::to_bits));
             }
@@ -1740,7 +1839,7 @@ mod tests {
         for j in [0.9, 1.3] {
             let mut s = sigma;
             let mut state = [0.0; 4];
-            let k = Kinematics { velocity_gradient: [0.0; 5], deformation_gradient: [1.0, 0.0, 0.0, 1.0, j], jacobian: j, dt: 1.0 };
+            let k = Kinematics { velocity_gradient: [0.0; 5], deformation_gradient: [1.0, 0.0, 0.0, 1.0, j], jacobian: j, cell_jacobian: j, dt: 1.0 };
             m.update_stress(&mut s, &mut state, &k);
             if j < jc {
                 assert_eq!((s, state), (sigma, [0.0; 4]), "connected and elastic");
@@ -1966,7 +2065,7 @@ mod tests {
             // σ1, σ3 in plane, σ2 out of plane.
             let mut stress = [0.0; 4];
             let mut state = [0.0; 3];
-            m.return_trial(&mut stress, &mut state, [trial[0], trial[2], trial[1], 0.0], false, 1.0);
+            m.return_trial(&mut stress, &mut state, [trial[0], trial[2], trial[1], 0.0], false, 1.0, 1.0);
             let dilatancy: f64 = terms.iter().filter(|(_, g)| g[0] == kk(psi) || g[1] == kk(psi)).map(|(x, _)| x).sum();
             assert!((state[1] - (rankine + (kk(psi) - 1.0) * dilatancy)).abs() <= 1e-9 * l, "{region:?}: {state:?}");
             assert!((state[2] - rankine).abs() <= 1e-9 * l, "{region:?}: opening {} vs {rankine}", state[2]);
@@ -2220,5 +2319,107 @@ mod tests {
             assert!((radius - c).abs() <= 1e-9 * (p0 + c), "simple shear radius {radius}");
             assert!((s[0] + s[1] + s[2] + 3.0 * p0).abs() <= 1e-9 * (p0 + c), "mean stress changed {s:?}");
         }
+    }
+
+    // ---------------------------------------------------------------- dilute material, time step
+
+    fn at_jacobian(l: [f64; 5], dt: f64, jacobian: f64) -> Kinematics {
+        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian, cell_jacobian: jacobian, dt }
+    }
+
+    /// P-wave speed a stress increment implies: c² = (Δσ_11/Δε_11) J/ρ0 for a uniaxial strain
+    /// increment (ρ = ρ0/J, the current density).
+    fn implied_wave_speed(m: &MohrCoulomb, jacobian: f64) -> f64 {
+        let dt = 1e-5;
+        let de = -1e-6; // compression along 1 only (uniaxial strain): M = λ + 2μ
+        let mut s = [-10.0, -10.0, -10.0, 0.0]; // a little pressure: on the elastic side
+        let mut state = [0.0; 3];
+        m.update_stress(&mut s, &mut state, &at_jacobian([de / dt, 0.0, 0.0, 0.0, 0.0], dt, jacobian));
+        let modulus = (s[0] + 10.0) / de;
+        (modulus * jacobian / m.density).sqrt()
+    }
+
+    /// The a = 10 column collapse at 30 cells per radius (issue 15) blew up in its spreading
+    /// front: particles dilated stress-free to J = 10–1000 were re-loaded with the moduli of
+    /// the material as placed, so their P-wave speed c0 √J (ρ = ρ0/J) was up to 32 times the
+    /// one the time step was built for. With the limit, the re-loading stiffness of such a
+    /// particle keeps its wave speed at the limit; up to the limit nothing changes.
+    #[test]
+    fn dilute_material_reloads_no_faster_than_the_time_step_allows() {
+        let plain = mc(25.0, 0.0, 0.0, 0.0);
+        let c0 = plain.wave_speed();
+        let mut limited = plain.clone();
+        limited.limit_wave_speed(2.0 * c0); // stable up to J = 4
+        assert!((limited.stable_jacobian - 4.0).abs() < 1e-12, "{}", limited.stable_jacobian);
+        // The mechanism: without the limit the wave speed grows as √J.
+        let fast = implied_wave_speed(&plain, 1000.0);
+        assert!((fast / c0 - 1000f64.sqrt()).abs() < 1e-6 * 1000f64.sqrt(), "{fast} vs {c0}");
+        for jacobian in [5.0, 40.0, 1000.0] {
+            let c = implied_wave_speed(&limited, jacobian);
+            assert!((c - 2.0 * c0).abs() < 1e-6 * c0, "J = {jacobian}: c = {c}, limit {}", 2.0 * c0);
+        }
+        // Up to the limit: bit for bit the plain model (compressed, sheared, returned).
+        let mut rng = Lcg(7);
+        for jacobian in [0.8, 1.0, 3.9, 4.0] {
+            for _ in 0..50 {
+                let l = [rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), 0.0];
+                let k = at_jacobian(l, 1e-4, jacobian);
+                let (mut a, mut b) = ([-1e3, -2e3, -1.5e3, 300.0], [-1e3, -2e3, -1.5e3, 300.0]);
+                let (mut sa, mut sb) = ([0.0; 3], [0.0; 3]);
+                plain.update_stress(&mut a, &mut sa, &k);
+                limited.update_stress(&mut b, &mut sb, &k);
+                assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+                assert_eq!(sa.map(f64::to_bits), sb.map(f64::to_bits));
+            }
+        }
+        // The limit never stiffens or softens the material as placed (J_s ≥ 1).
+        let mut slow = plain.clone();
+        slow.limit_wave_speed(0.5 * c0);
+        assert_eq!(slow.stable_jacobian, 1.0);
+    }
+
+    /// Softer moduli s C⁻¹ mean a larger plastic strain for the same stress return:
+    /// Δε^p = C (σ_B − σ_C)/s. A stress-free dilute particle sheared at the apex books all of
+    /// the shear as plastic, with or without the limit.
+    #[test]
+    fn dilute_material_books_its_whole_shear_as_plastic() {
+        let mut m = mc(25.0, 0.0, 0.0, 0.0);
+        m.limit_wave_speed(2.0 * m.wave_speed()); // J_s = 4
+        for jacobian in [2.0, 40.0] {
+            let dt = 1e-4;
+            let gamma = 1e-3; // engineering shear strain of the step
+            let mut s = [0.0; 4];
+            let mut state = [0.0; 3];
+            m.update_stress(&mut s, &mut state, &at_jacobian([0.0, gamma / dt, 0.0, 0.0, 0.0], dt, jacobian));
+            assert_eq!(s, [0.0; 4], "J = {jacobian}: stress-free at the apex");
+            // Principal plastic strains ±γ/2: deviatoric norm √(2/3 · 2 (γ/2)²) = γ/√3.
+            let want = gamma / 3f64.sqrt();
+            assert!((state[0] - want).abs() < 1e-9 * want, "J = {jacobian}: plastic shear {} vs {want}", state[0]);
+        }
+    }
+
+    /// `cell_averaged_disconnection`: the test reads the cell's mean J, not the particle's.
+    #[test]
+    fn cell_averaged_disconnection_follows_the_cells_mean_jacobian() {
+        let jc = 1.2;
+        let own = disconnecting(25.0, 0.0, jc);
+        let cell = disconnecting(25.0, 0.0, jc).with_cell_averaged_disconnection(true);
+        assert!(cell.needs_cell_jacobian() && !own.needs_cell_jacobian());
+        let dt = 1e-4;
+        let compress = [-1e-3 / dt, 0.0, 0.0, -1e-3 / dt, 0.0];
+        let step = |m: &MohrCoulomb, jacobian: f64, cell_jacobian: f64| {
+            let mut s = [-100.0, -100.0, -100.0, 0.0];
+            let mut state = [0.0; 4];
+            let k = Kinematics { velocity_gradient: compress, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0],
+                                 jacobian, cell_jacobian, dt };
+            m.update_stress(&mut s, &mut state, &k);
+            s
+        };
+        // A loose particle (J = 2) in a dense cell (J̄ = 1.1) is connected: it is compressed.
+        assert!(step(&cell, 2.0, 1.1)[0] < -100.0);
+        assert_eq!(step(&own, 2.0, 1.1), [0.0; 4]);
+        // A dense particle (J = 1.1) in a loose cell (J̄ = 2) is disconnected: stress-free.
+        assert_eq!(step(&cell, 1.1, 2.0), [0.0; 4]);
+        assert!(step(&own, 1.1, 2.0)[0] < -100.0);
     }
 }

@@ -173,6 +173,8 @@ impl InertialMohrCoulomb {
                          b.cohesion, b.tension_cutoff)
             .with_recompaction(b.recompaction)
             .with_disconnection(b.critical_jacobian)
+            .with_stable_jacobian(b.stable_jacobian)
+            .with_cell_averaged_disconnection(b.cell_averaged_disconnection)
     }
 }
 
@@ -197,6 +199,13 @@ impl Material for InertialMohrCoulomb {
         } else {
             &STATE_NAMES
         }
+    }
+
+    fn limit_wave_speed(&mut self, max_wave_speed: f64) {
+        self.base.limit_wave_speed(max_wave_speed);
+    }
+    fn needs_cell_jacobian(&self) -> bool {
+        self.base.needs_cell_jacobian()
     }
 
     // Inlined into the trait's `update_stress_avx2` too (solver::isa).
@@ -230,7 +239,7 @@ mod tests {
     }
 
     fn kinematics(l: [f64; 5], dt: f64) -> Kinematics {
-        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, dt }
+        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, cell_jacobian: 1.0, dt }
     }
 
     #[test]
@@ -297,6 +306,28 @@ mod tests {
                 assert!(mu > m.static_friction + 0.6 * (m.dynamic_friction - m.static_friction));
             }
         }
+    }
+
+    /// The wave-speed limit of the run (mohr_coulomb.rs, "Dilute material and the time
+    /// step") reaches the model at every friction μ(I) picks, not only the static one.
+    #[test]
+    fn the_wave_speed_limit_holds_at_every_friction() {
+        let mut m = model();
+        let c0 = m.wave_speed();
+        m.limit_wave_speed(3.0 * c0); // J_s = 9
+        assert!((m.base.stable_jacobian - 9.0).abs() < 1e-9);
+        assert_eq!(m.at_friction(0.5).stable_jacobian, m.base.stable_jacobian);
+        // A dilute particle (J = 900) sheared fast (μ > μ_s) while compressed: its re-loading
+        // stiffness is s = 9/900 of the material's.
+        let dt = 1e-5;
+        let k = Kinematics { jacobian: 900.0, cell_jacobian: 900.0, ..kinematics([-1e-6 / dt, 5e-6 / dt, 0.0, 0.0, 0.0], dt) };
+        let (mut a, mut b) = ([-10.0, -10.0, -10.0, 0.0], [-10.0, -10.0, -10.0, 0.0]);
+        let (mut sa, mut sb) = ([0.0; 4], [0.0; 4]);
+        m.update_stress(&mut a, &mut sa, &k);
+        model().update_stress(&mut b, &mut sb, &k);
+        assert!(sa[3] > 0.0, "the inertial number is recorded: μ(I) path");
+        let (da, db) = (a[0] + 10.0, b[0] + 10.0);
+        assert!(db < 0.0 && (da - 0.01 * db).abs() < 1e-9 * db.abs(), "limited {da} vs plain {db}");
     }
 
     /// Without shearing the update is the rate-independent one, bit for bit.

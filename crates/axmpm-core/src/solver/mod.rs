@@ -44,6 +44,11 @@ pub struct Scratch {
     pub velocity_gradient: Vec<[f64; 5]>,
     pub cell_volume: Vec<f64>,
     pub cell_dilatation: Vec<f64>,
+    /// A material reads the cells' mean J ([`crate::material::Material::needs_cell_jacobian`]):
+    /// per background cell Σ V0 and then Σ V / Σ V0 of the particles whose centre lies in it,
+    /// at the start of the step.
+    pub cell_initial_volume: Vec<f64>,
+    pub cell_jacobian: Vec<f64>,
     /// Nodes the particles reached in the last particle → grid: every grid field is +0
     /// outside this box (the grid passes write nothing else there, and constraints keep a
     /// zero velocity zero).
@@ -67,6 +72,8 @@ pub struct StepParameters {
     pub axisymmetric: bool,
     /// Instruction set of the passes' loops ([`isa`]; results do not depend on it).
     pub isa: Isa,
+    /// Some material reads [`crate::material::Kinematics::cell_jacobian`].
+    pub cell_jacobian: bool,
 }
 
 /// Everything the step mutates or reads.
@@ -167,6 +174,11 @@ impl State {
             self.scratch.velocity_gradient = vec![[0.0; 5]; n];
             self.scratch.cell_volume = vec![0.0; cells];
             self.scratch.cell_dilatation = vec![0.0; cells];
+        }
+        if self.parameters.cell_jacobian {
+            let cells = self.grid.cells[0] * self.grid.cells[1];
+            self.scratch.cell_initial_volume = vec![0.0; cells];
+            self.scratch.cell_jacobian = vec![0.0; cells];
         }
     }
 

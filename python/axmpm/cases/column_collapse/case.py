@@ -20,7 +20,7 @@ import numpy as np
 from .. import RunSpec, register
 from ...study.report import DASH, fmt, pct
 from .deposit import deposit_metrics, profiles
-from .laws import LAWS, compare, primary_law
+from .laws import compare, laws_for, primary_law
 from .scenario import collapse_scenario
 
 #: The seed paper's columns: run name → aspect ratio a = H_i/R_i.
@@ -40,23 +40,29 @@ SWEEP_COLUMNS = (
     "deposit_time",
 )
 
+def primary_key(result: dict[str, Any]) -> str:
+    """Key of the law a result is measured against: Lube et al. 2004 (axisymmetric) or the
+    planar Lube et al. 2005 (plane strain; :func:`~.laws.laws_for`)."""
+    return primary_law(result.get("formulation") or "axisymmetric").key
+
+
 #: The quantities ``axmpm convergence`` follows across meshes: key → (label, value getter,
 #: relative difference to Lube et al. 2004 getter), each getter applied to a result record.
 CONVERGENCE_QUANTITIES: dict[str, tuple[str, Any, Any]] = {
     "runout_one_grain": (
         "(R∞−R_i)/R_i, one grain thick",
         lambda c: c["runout_normalised"],
-        lambda c: c["laws"]["lube2004"]["runout_normalised_rel_diff"],
+        lambda c: c["laws"][primary_key(c)]["runout_normalised_rel_diff"],
     ),
     "runout_edge": (
         "(R∞−R_i)/R_i, particle edge",
         lambda c: c["runout_normalised_particle_edge"],
-        lambda c: c["runout_particle_edge_rel_diff"]["lube2004"],
+        lambda c: c["runout_particle_edge_rel_diff"][primary_key(c)],
     ),
     "final_height": (
         "H∞/R_i",
         lambda c: c["final_height_normalised"],
-        lambda c: c["laws"]["lube2004"]["final_height_rel_diff"],
+        lambda c: c["laws"][primary_key(c)]["final_height_rel_diff"],
     ),
 }
 
@@ -179,9 +185,10 @@ def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dic
     m = deposit_metrics(run_dir)
     run = load_run(run_dir)
     a = m["aspect_ratio"]
-    laws = compare(a, m["runout_normalised"], m["final_height_normalised"], m["initial_radius"])
+    formulation = m["formulation"]
+    laws = compare(a, m["runout_normalised"], m["final_height_normalised"], m["initial_radius"], formulation)
     laws_edge = compare(a, m["runout_normalised_particle_edge"], m["final_height_normalised"],
-                        m["initial_radius"])
+                        m["initial_radius"], formulation)
     return {
         "aspect_ratio": a,
         "nominal_aspect_ratio": nominal_a,
@@ -238,9 +245,9 @@ def plot_profiles(cases: list[dict[str, Any]], path: Path, interval: float = 0.0
                     label=f"t = {p['time']:.2f} s" if i in (0, len(profs) - 1) else None)
         ax.axvline(case["runout_radius"] / R, color="k", ls=":", lw=0.8)
         ax.axhline(case["final_height"] / R, color="k", ls=":", lw=0.8)
-        lube = case["laws"]["lube2004"]
+        lube = case["laws"][primary_key(case)]
         if lube["runout_radius"] is not None:
-            ax.axvline(lube["runout_radius"] / R, color="tab:red", ls="--", lw=0.8, label="Lube 2004 R∞")
+            ax.axvline(lube["runout_radius"] / R, color="tab:red", ls="--", lw=0.8, label=f"{lube['label']} R∞")
         ax.set_xlabel("r / R_i")
         ax.set_ylabel("z / R_i")
         ax.set_title(f"{case['name']}: a = {case['aspect_ratio']:.3g}, {case['formulation']}, "
@@ -264,7 +271,8 @@ def plot_laws(cases: list[dict[str, Any]], path: Path) -> None:
     a_lo, a_hi = 0.3, 10.0
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
     colours = ["tab:red", "tab:blue", "tab:green", "tab:purple", "tab:orange"]
-    for law, colour in zip(LAWS, colours):
+    formulation = cases[0].get("formulation") if cases else "axisymmetric"
+    for law, colour in zip(laws_for(formulation or "axisymmetric"), colours):
         for ax, q in ((ax1, "runout"), (ax2, "height")):
             regimes = getattr(law, q)
             n_unconf = sum(not r.confirmed for r in regimes)
@@ -300,9 +308,12 @@ def plot_laws(cases: list[dict[str, Any]], path: Path) -> None:
 
 def results_table(cases: list[dict[str, Any]]) -> str:
     """The terminal and report table: one row per column (a run without a deposit: its status)."""
+    planar = any(c.get("formulation") == "plane_strain" for c in cases)
+    # Plane strain: against the planar Lube et al. 2005 (no height law; unconfirmed, laws.py).
+    law = "Lube 2005 planar (unconf.)" if planar else "Lube 2004"
     lines = [
-        "| case | a | cells/R_i | (R∞−R_i)/R_i | Lube 2004 | diff | particle edge | diff | H∞/R_i | "
-        "Lube 2004 H | diff | Lajeunesse 2005 H | wall s | status |",
+        f"| case | a | cells/R_i | (R∞−R_i)/R_i | {law} | diff | particle edge | diff | H∞/R_i | "
+        f"{law} H | diff | Lajeunesse 2005 H | wall s | status |",
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in cases:
@@ -310,15 +321,15 @@ def results_table(cases: list[dict[str, Any]]) -> str:
             lines.append(f"| {c['name']} | " + " | ".join([DASH] * 11) + f" | {fmt(c.get('wall_seconds'), '.0f')} | "
                          f"{c['status']} |")
             continue
-        lube = c["laws"]["lube2004"]
-        laj = c["laws"]["lajeunesse2005_height"]
+        lube = c["laws"][primary_key(c)]
+        laj = c["laws"].get("lajeunesse2005_height") or {"final_height_normalised": None, "final_height_rel_diff": None}
         h_tag = "" if lube.get("height_confirmed") else " (unconf.)"
         lines.append(
             f"| {c['name']} | {c['aspect_ratio']:.3g} | {c['cells_per_radius']:.0f} | "
             f"{c['runout_normalised']:.3f} | {fmt(lube['runout_normalised'], '.3f')} | "
             f"{pct(lube['runout_normalised_rel_diff'], 0)} | "
             f"{fmt(c.get('runout_normalised_particle_edge'), '.3f')} | "
-            f"{pct(c.get('runout_particle_edge_rel_diff', {}).get('lube2004'), 0)} | "
+            f"{pct(c.get('runout_particle_edge_rel_diff', {}).get(primary_key(c)), 0)} | "
             f"{c['final_height_normalised']:.3f} | "
             f"{fmt(lube['final_height_normalised'], '.3f')}{h_tag} | {pct(lube['final_height_rel_diff'], 0)} | "
             f"{fmt(laj['final_height_normalised'], '.3f')} ({pct(laj['final_height_rel_diff'], 0)}) | "
@@ -355,8 +366,14 @@ def report_text(out: Path, data: dict[str, Any], figures: bool = True) -> str:
         plot_laws(analysed, out / "laws.png")
         animations = write_animations(analysed, out)
     cpr = sorted({round(c["cells_per_radius"], 1) for c in analysed})
-    worst = max((abs(c["laws"]["lube2004"]["runout_normalised_rel_diff"]) for c in analysed), default=0.0)
-    return f"""# axmpm validation: axisymmetric granular column collapse
+    worst = max((abs(c["laws"][primary_key(c)]["runout_normalised_rel_diff"]) for c in analysed), default=0.0)
+    planar = data["formulation"] == "plane_strain"
+    law_note = ("\n\nPlane strain: the runs are compared with the planar laws (a slab against the channel's back "
+                "wall; R_i stands for its length L_i): Lube et al. 2005 in the table, all planar laws in laws.png; "
+                "every coefficient is a secondary quotation of medium–low confidence, unconfirmed "
+                "(docs/validation.md, plane strain). The axisymmetric notes below do not apply to them."
+                if planar else "")
+    return f"""# axmpm validation: {data['formulation'].replace('_', ' ')} granular column collapse
 
 Formulation: {data['formulation']}. Overrides: {', '.join(data['overrides']) or 'none'}.
 Laws and their sources: `axmpm/cases/column_collapse/laws.py`, docs/validation-sources.md. Analysis
@@ -364,7 +381,7 @@ rules (runout of the continuous deposit, H∞ as the deposit surface at the axis
 
 ## Results
 
-{results_table(cases)}
+{results_table(cases)}{law_note}
 
 Runout differences are relative to Lube et al. 2004's (R∞ − R_i)/R_i (the only runout law
 whose coefficients are confirmed); the largest is {100 * worst:.0f} %. R∞ is where the deposit
@@ -487,7 +504,7 @@ class ColumnCollapse:
         """Lube et al. 2004 at the simulated column's aspect ratio (heights are whole cells)."""
         body = self.scenario(run).bodies[0]
         a = (body.max[1] - body.min[1]) / (body.max[0] - body.min[0])
-        p = primary_law().predict(a)
+        p = primary_law(run.params.get("formulation", "axisymmetric")).predict(a)
         return {"runout_normalised": p.runout, "final_height_normalised": p.height}
 
     def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
@@ -514,7 +531,7 @@ class ColumnCollapse:
         overrides, builder = _options_overrides(options)
         return {"formulation": getattr(options, "formulation", "axisymmetric"),
                 "overrides": overrides_text(overrides, builder),
-                "laws": [law.describe() for law in LAWS]}
+                "laws": [law.describe() for law in laws_for(getattr(options, "formulation", "axisymmetric"))]}
 
     def console(self, results: list[dict[str, Any]], checks: list[dict[str, Any]]) -> str:
         text = results_table(results)

@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 __all__ = ["Regime", "Law", "Prediction", "LAWS", "LUBE_2004", "LAJEUNESSE_2004_KK",
-           "LAJEUNESSE_2004_STARON", "LAJEUNESSE_2005_HEIGHT", "get_law", "primary_law"]
+           "LAJEUNESSE_2004_STARON", "LAJEUNESSE_2005_HEIGHT", "PLANAR_LAWS", "LUBE_2005_PLANAR",
+           "LAJEUNESSE_2005_PLANAR", "KUMAR_2015_DEM", "TABLE_LAWS", "laws_for", "get_law", "primary_law"]
 
 CONFIRMED_LEVELS = ("high", "medium")
 
@@ -204,27 +205,101 @@ LAJEUNESSE_2005_HEIGHT = Law(
 #: All laws, the primary one (runout confirmed) first.
 LAWS: tuple[Law, ...] = (LUBE_2004, LAJEUNESSE_2004_KK, LAJEUNESSE_2004_STARON, LAJEUNESSE_2005_HEIGHT)
 
+# ----------------------------------------------------------------------------- planar (channel)
+# Plane-strain runs compare with two-dimensional collapses: a column of length L_i against
+# the back wall of a channel, released by a gate (the roller at x = 0 of the plane-strain
+# scenario is that wall), (R∞ − L_i)/L_i against a = H_i/L_i. Every value below is a
+# secondary quotation (docs/physics.md §6a, PHYSICS.md §6a: "medium–low confidence"); none is
+# confirmed, so every branch is drawn dashed.
+PLANAR_CONFIDENCE = "medium-low"
+LUBE05 = "Lube, Huppert, Sparks & Freundt (2005), J. Fluid Mech. 541 (collapses in a channel)"
+KUMAR15 = "Kumar (2015), PhD thesis, University of Cambridge (2D DEM of plane-strain collapses)"
+
+#: Lube et al. 2005: 1.2 a below the transition, 1.9 a^(2/3) above. The transition is quoted
+#: as 1.8, 2.3 and 2.8 by different sources; 2.3 is used. The branches only meet at a ≈ 4.0,
+#: so the law jumps there (2.76 → 3.31 at a = 2.3).
+LUBE_2005_PLANAR = Law(
+    key="lube2005_planar",
+    label="Lube et al. 2005 (planar)",
+    source=LUBE05,
+    via="PHYSICS.md §6a (secondary quotations)",
+    runout=(
+        Regime(1.2, 1.0, 0.0, 2.3, PLANAR_CONFIDENCE, "PHYSICS.md §6a; transition quoted as 1.8, 2.3, 2.8"),
+        Regime(1.9, 2 / 3, 2.3, math.inf, PLANAR_CONFIDENCE, "PHYSICS.md §6a"),
+    ),
+    notes="Transition quoted as 1.8, 2.3 and 2.8; 2.3 used. The branches do not meet there "
+    "(2.76 → 3.31 at a = 2.3).",
+)
+
+#: Lajeunesse, Monnier & Homsy 2005: 1.8 a (a < 3) and 2.3 a^(2/3) (a > 3), one secondary source.
+LAJEUNESSE_2005_PLANAR = Law(
+    key="lajeunesse2005_planar",
+    label="Lajeunesse et al. 2005 (planar)",
+    source=LAJ05,
+    via="PHYSICS.md §6a (one secondary source)",
+    runout=(
+        Regime(1.8, 1.0, 0.0, 3.0, PLANAR_CONFIDENCE, "PHYSICS.md §6a (one source)"),
+        Regime(2.3, 2 / 3, 3.0, math.inf, PLANAR_CONFIDENCE, "PHYSICS.md §6a (one source)"),
+    ),
+    notes="Jumps at a = 3 (5.40 → 4.78).",
+)
+
+#: Kumar's 2D DEM fit: 1.67 a below a ≈ 2.3–2.7 (2.5 used) and 2.5–2.7 a^(2/3) above (2.6,
+#: the middle of the quotations, used).
+KUMAR_2015_DEM = Law(
+    key="kumar2015_dem",
+    label="Kumar 2015 (2D DEM)",
+    source=KUMAR15,
+    via="PHYSICS.md §6a (quotations differ)",
+    runout=(
+        Regime(1.67, 1.0, 0.0, 2.5, PLANAR_CONFIDENCE, "PHYSICS.md §6a; transition quoted 2.3–2.7"),
+        Regime(2.6, 2 / 3, 2.5, math.inf, PLANAR_CONFIDENCE, "PHYSICS.md §6a; coefficient quoted 2.5–2.7"),
+    ),
+    notes="Coefficient of the a^(2/3) branch quoted as 2.5–2.7 (2.6 used), transition 2.3–2.7 (2.5 used).",
+)
+
+#: The planar laws, the primary one first.
+PLANAR_LAWS: tuple[Law, ...] = (LUBE_2005_PLANAR, LAJEUNESSE_2005_PLANAR, KUMAR_2015_DEM)
+
+#: The runout laws tabulated per formulation (primary first).
+TABLE_LAWS: dict[str, tuple[Law, ...]] = {
+    "axisymmetric": (LUBE_2004, LAJEUNESSE_2004_KK),
+    "plane_strain": PLANAR_LAWS,
+}
+
+
+def laws_for(formulation: str = "axisymmetric") -> tuple[Law, ...]:
+    """The laws a run of ``formulation`` is compared with: the axisymmetric (cylinder) laws, or
+    the planar (channel) laws for plane strain."""
+    if formulation == "plane_strain":
+        return PLANAR_LAWS
+    if formulation == "axisymmetric":
+        return LAWS
+    raise ValueError(f"formulation must be 'axisymmetric' or 'plane_strain' (got {formulation!r})")
+
 
 def get_law(key: str) -> Law:
-    for law in LAWS:
+    for law in LAWS + PLANAR_LAWS:
         if law.key == key:
             return law
-    raise KeyError(f"unknown law {key!r}; known: {', '.join(l.key for l in LAWS)}")
+    raise KeyError(f"unknown law {key!r}; known: {', '.join(l.key for l in LAWS + PLANAR_LAWS)}")
 
 
-def primary_law() -> Law:
-    """Lube et al. 2004: the law the targets refer to."""
-    return LUBE_2004
+def primary_law(formulation: str = "axisymmetric") -> Law:
+    """The law the targets refer to: Lube et al. 2004 (axisymmetric), Lube et al. 2005
+    (plane strain; unconfirmed)."""
+    return laws_for(formulation)[0]
 
 
 def compare(a: float, runout_normalised: float, height_normalised: float,
-            radius: float) -> dict[str, dict[str, Any]]:
-    """Each law's predicted R∞ and H∞ (metres, for initial radius ``radius``) and the
-    simulation's relative difference (sim − law)/law; None where a law is silent."""
+            radius: float, formulation: str = "axisymmetric") -> dict[str, dict[str, Any]]:
+    """Each law of the formulation (:func:`laws_for`): its predicted R∞ and H∞ (metres, for
+    initial radius or length ``radius``) and the simulation's relative difference
+    (sim − law)/law; None where a law is silent."""
     out: dict[str, dict[str, Any]] = {}
     R_sim = radius * (1.0 + runout_normalised)
     H_sim = radius * height_normalised
-    for law in LAWS:
+    for law in laws_for(formulation):
         p = law.predict(a)
         entry: dict[str, Any] = {"label": law.label, "source": law.source, "confirmed": law.confirmed}
         if p.runout is not None:

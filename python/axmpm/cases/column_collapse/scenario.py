@@ -30,6 +30,8 @@ DEFAULTS: dict[str, Any] = {
     # Disconnected state (mohr_coulomb.rs, Dunatunga & Kamrin 2015): None = off; φ_c makes
     # sand looser than φ_c (J > density/(grain_density φ_c)) stress-free.
     "critical_packing_fraction": None,
+    # With it: the disconnection test on the cell's mean J instead of each particle's own.
+    "cell_averaged_disconnection": False,
     # μ(I) friction (mu_i.rs): None = rate-independent Mohr–Coulomb at friction_angle; an
     # angle φ₂ makes friction_angle the static angle of sin φ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I).
     "inertial_friction_angle": None,  # degrees
@@ -55,13 +57,23 @@ DEFAULTS: dict[str, Any] = {
     # Cells of grid below the base (a friction wall at z = 0 acts on them): a particle that
     # interpolation carries a hair below the base stays on the grid instead of ending the run.
     "cells_below_base": 2,
+    # Plane strain: as many cells of grid behind the back wall (x = 0, a roller wall), for the
+    # same reason: with the grid starting at x = 0 the a = 5.4 and 10 columns ended with a
+    # particle carried a hair behind it (x = −7.5e-8 m, "left the grid"). In axisymmetry the
+    # grid must start at the axis (none).
     "rest_check_after": 0.1,  # s after the release
     "formulation": "axisymmetric",
 }
 
 
-def _law_runout_guess(a: float) -> float:
-    """Lube et al. 2004 runout (R∞−R_i)/R_i, to size the grid."""
+def _law_runout_guess(a: float, formulation: str = "axisymmetric") -> float:
+    """(R∞−R_i)/R_i to size the grid: Lube et al. 2004 for a cylinder; for plane strain the
+    longer of the planar laws, Lajeunesse et al. 2005 (1.8 a below a = 3, 2.3 a^(2/3) above;
+    laws.py): a planar collapse spreads much further than a cylinder of the same a (nothing
+    thins it by spreading round a circumference) — with the cylinder's law, a = 5.4 left the
+    grid at t = 0.41 s at (R − R_i)/R_i = 9.2, still moving."""
+    if formulation == "plane_strain":
+        return 1.8 * a if a < 3.0 else 2.3 * a ** (2.0 / 3.0)
     return 1.24 * a if a < 1.7 else 1.6 * math.sqrt(a)
 
 
@@ -81,6 +93,7 @@ def collapse_scenario(
     cohesion: float = DEFAULTS["cohesion"],
     recompaction: bool = DEFAULTS["recompaction"],
     critical_packing_fraction: float | None = DEFAULTS["critical_packing_fraction"],
+    cell_averaged_disconnection: bool = DEFAULTS["cell_averaged_disconnection"],
     inertial_friction_angle: float | None = DEFAULTS["inertial_friction_angle"],
     inertial_number_scale: float = DEFAULTS["inertial_number_scale"],
     grain_diameter: float = DEFAULTS["grain_diameter"],
@@ -118,10 +131,11 @@ def collapse_scenario(
     mu = math.tan(math.radians(friction_angle)) if base_friction is None else float(base_friction)
     if domain_radius is None:
         # Room for the thin sheet pure FLIP lets slide along the base beyond the deposit.
-        domain_radius = R_i * (2.0 + 2.5 * _law_runout_guess(a))
+        domain_radius = R_i * (2.0 + 2.5 * _law_runout_guess(a, formulation))
     n_dr = max(n_r + 2, int(math.ceil(domain_radius / h - 1e-9)))
     n_below = max(0, int(cells_below_base))
     n_dz = n_z + 4 + n_below
+    n_behind = n_below if formulation == "plane_strain" else 0
     data: dict[str, Any] = {
         "simulation": {
             "formulation": formulation,
@@ -137,7 +151,8 @@ def collapse_scenario(
             "settle_window": settle_window,
             "stop_at_rest_after": release_time + rest_check_after,
         },
-        "grid": {"origin": [0.0, -n_below * h], "extent": [n_dr * h, n_dz * h], "cell_size": h},
+        "grid": {"origin": [-n_behind * h, -n_below * h], "extent": [(n_dr + n_behind) * h, n_dz * h],
+                 "cell_size": h},
         "materials": {
             "sand": {
                 "model": "mohr_coulomb",
@@ -152,6 +167,7 @@ def collapse_scenario(
                 **({"critical_packing_fraction": critical_packing_fraction,
                     "grain_density": grain_density}
                    if critical_packing_fraction is not None else {}),
+                **({"cell_averaged_disconnection": True} if cell_averaged_disconnection else {}),
                 **({"inertial_friction_angle": inertial_friction_angle,
                     "inertial_number_scale": inertial_number_scale,
                     "grain_diameter": grain_diameter, "grain_density": grain_density}
@@ -179,7 +195,10 @@ def collapse_scenario(
             # The base, when the grid reaches below it (else the bottom face is the base).
             {"axis": "y", "position": 0.0, "material_side": "positive", "condition": "friction",
              "coefficient": mu},
-        ] if n_below else []) + [
+        ] if n_below else []) + ([
+            # Plane strain: the back wall (symmetry plane), when the grid reaches behind it.
+            {"axis": "x", "position": 0.0, "material_side": "positive", "condition": "roller"},
+        ] if n_behind else []) + [
             {
                 "axis": "x",
                 "position": R_i,

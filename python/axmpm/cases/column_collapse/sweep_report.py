@@ -25,7 +25,7 @@ import numpy as np
 
 from ...study.report import DASH, fmt, pct
 from .energy import TERMS, plot_energy
-from .laws import LAJEUNESSE_2004_KK, LUBE_2004
+from .laws import TABLE_LAWS
 
 __all__ = ["T975", "t975", "fit_power_law", "fit_two_branches", "sweep_report", "plot_sweep_laws"]
 
@@ -107,6 +107,11 @@ def _law_branches(ax: Any, law: Any, colour: str, a_lo: float, a_hi: float) -> N
         first = False
 
 
+def _formulation(cases: list[dict[str, Any]]) -> str:
+    """The formulation of the sweep's runs (plane strain if any run is)."""
+    return "plane_strain" if any(c.get("formulation") == "plane_strain" for c in cases) else "axisymmetric"
+
+
 def plot_sweep_laws(cases: list[dict[str, Any]], fits: dict[str, Any] | None, path: Path) -> None:
     import matplotlib
 
@@ -117,8 +122,8 @@ def plot_sweep_laws(cases: list[dict[str, Any]], fits: dict[str, Any] | None, pa
     y = np.array([c["runout_normalised"] for c in cases])
     a_lo, a_hi = 0.8 * min(a.min(), 0.4), 1.25 * max(a.max(), 10.0)
     fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    _law_branches(ax, LUBE_2004, "tab:red", a_lo, a_hi)
-    _law_branches(ax, LAJEUNESSE_2004_KK, "tab:blue", a_lo, a_hi)
+    for law, colour in zip(TABLE_LAWS[_formulation(cases)], ("tab:red", "tab:blue", "tab:green")):
+        _law_branches(ax, law, colour, a_lo, a_hi)
     ax.plot(a, y, "ko", ms=6, label="axmpm", zorder=5)
     if fits:
         for side, ls in (("below", "k:"), ("above", "k-.")):
@@ -133,7 +138,8 @@ def plot_sweep_laws(cases: list[dict[str, Any]], fits: dict[str, Any] | None, pa
     ax.set_ylabel("(R∞ − R_i) / R_i")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
-    ax.set_title("runout against the laws (dashed: unconfirmed branch)", fontsize=9)
+    ax.set_title(f"{_formulation(cases).replace('_', ' ')}: runout against the laws (dashed: unconfirmed branch)",
+                 fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -153,22 +159,32 @@ def _share(c: dict[str, Any], key: str) -> str:
     return DASH if v is None else f"{100 * v:.1f} %"
 
 
+#: Table headers of the laws.
+SHORT_NAMES = {"lube2004": "Lube 2004", "lajeunesse2004_kk": "Lajeunesse 2004", "lube2005_planar": "Lube 2005",
+               "lajeunesse2005_planar": "Lajeunesse 2005", "kumar2015_dem": "Kumar 2D DEM"}
+
+
 def sweep_table(cases: list[dict[str, Any]]) -> str:
-    lines = ["| run | a | cells/R_i | (R∞−R_i)/R_i | Lube 2004 | diff | Lajeunesse 2004 | diff | H∞/R_i | mean J | "
+    laws = TABLE_LAWS[_formulation(cases)]
+    head = " | ".join(f"{SHORT_NAMES.get(law.key, law.label)} | diff" for law in laws)
+    lines = [f"| run | a | cells/R_i | (R∞−R_i)/R_i | {head} | H∞/R_i | mean J | "
              "plastic | base friction | base impact | kinetic | residual | wall s | status |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|" + "---|---|" * len(laws) + "---|---|---|---|---|---|---|---|---|"]
     for c in cases:
         if "laws" not in c:
-            lines.append(f"| {c['name']} | {c.get('nominal_aspect_ratio', DASH)} | " + " | ".join([DASH] * 13)
+            lines.append(f"| {c['name']} | {c.get('nominal_aspect_ratio', DASH)} | "
+                         + " | ".join([DASH] * (9 + 2 * len(laws)))
                          + f" | {fmt(c.get('wall_seconds'), '.0f')} | {c['status']}: {c.get('message', '')} |")
             continue
-        lube = c["laws"]["lube2004"]
-        laj = c["laws"]["lajeunesse2004_kk"]
-        unconf = "" if laj.get("runout_confirmed") else " (unconf.)"
+        cells = []
+        for law in laws:
+            entry = c["laws"].get(law.key) or {}
+            unconf = "" if entry.get("runout_confirmed") else " (unconf.)"  # every planar branch
+            cells.append(f"{fmt(entry.get('runout_normalised'), '.3f')}{unconf} | "
+                         f"{pct(entry.get('runout_normalised_rel_diff'), 1)}")
         lines.append(
             f"| {c['name']} | {c['aspect_ratio']:.3g} | {c['cells_per_radius']:.0f} | {c['runout_normalised']:.3f} | "
-            f"{fmt(lube.get('runout_normalised'), '.3f')} | {pct(lube.get('runout_normalised_rel_diff'), 1)} | "
-            f"{fmt(laj.get('runout_normalised'), '.3f')}{unconf} | {pct(laj.get('runout_normalised_rel_diff'), 1)} | "
+            + " | ".join(cells) + " | "
             f"{c['final_height_normalised']:.3f} | {c.get('volume_ratio_mean', float('nan')):.3f} | "
             f"{_share(c, 'plastic_work')} | {_share(c, 'boundary_friction_dissipation')} | "
             f"{_share(c, 'boundary_normal_dissipation')} | {_share(c, 'kinetic_energy')} | "
@@ -184,6 +200,26 @@ def _energy_runs(cases: list[dict[str, Any]]) -> list[dict[str, Any]]:
     picks = [min(ok, key=lambda c: abs(math.log(c["aspect_ratio"] / t))) for t in (0.56, 5.4)]
     picks.append(max(ok, key=lambda c: c["aspect_ratio"]))
     return list({id(c): c for c in picks}.values())
+
+
+def _comparison_text(formulation: str) -> str:
+    if formulation == "plane_strain":
+        return ("For comparison (planar laws, all secondary quotations of medium–low confidence, "
+                "docs/physics.md §6a): Lube et al. 2005 1.2 a (a < 2.3) and 1.9 a^(2/3) above; Lajeunesse "
+                "et al. 2005 1.8 a (a < 3) and 2.3 a^(2/3) above; Kumar 2015 2D DEM 1.67 a (a < 2.5) and "
+                "2.6 a^(2/3) above (quoted 2.5–2.7).")
+    return ("For comparison: Lube et al. 2004 1.24 a (a < 1.7) and 1.6 a^0.5 (a > 1.7); Lajeunesse et al. "
+            "2004 2.0 a^0.5 (a ≳ 0.74).")
+
+
+def _laws_note(formulation: str) -> str:
+    if formulation == "plane_strain":
+        return ("Planar laws (plane strain: a column of length L_i against the channel's back wall, the "
+                "roller at x = 0; R_i stands for L_i): Lube et al. 2005, Lajeunesse et al. 2005 and Kumar's "
+                "2D DEM fit, each with its transition as quoted (laws.py); none is confirmed "
+                "(\"(unconf.)\", dashed in the figure).")
+    return ("Lajeunesse 2004: the KK transcription, 1.35 a below a = 0.74 (unconfirmed) and 2.0 a^0.5 above\n"
+            "(medium confidence).")
 
 
 def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any], figures: bool = True) -> str:
@@ -212,8 +248,7 @@ def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any
     fit_text = "too few completed runs for the fit (4 needed)" if fits is None else (
         f"break point a_b = {fits['break']:.3g} ({fits['break_rule']}).\n\n"
         f"* a < a_b: {_fit_text(fits['below'])}\n* a > a_b: {_fit_text(fits['above'])}\n\n"
-        "For comparison: Lube et al. 2004 1.24 a (a < 1.7) and 1.6 a^0.5 (a > 1.7); Lajeunesse et al. "
-        "2004 2.0 a^0.5 (a ≳ 0.74). Intervals: 95 %, Student t on n − 2 degrees of freedom.")
+        + _comparison_text(_formulation(cases)) + " Intervals: 95 %, Student t on n − 2 degrees of freedom.")
     energy_lines = []
     for c in energy_runs:
         e = c["energy"]
@@ -236,8 +271,7 @@ docs/physics.md §6, `axmpm/cases/column_collapse/laws.py`.
 
 {sweep_table(cases)}
 
-Lajeunesse 2004: the KK transcription, 1.35 a below a = 0.74 (unconfirmed) and 2.0 a^0.5 above
-(medium confidence). mean J = V/V0 over the deposit's particles at the last frame. Energy
+{_laws_note(_formulation(cases))} mean J = V/V0 over the deposit's particles at the last frame. Energy
 columns: shares of the potential energy released at the last output (docs/physics.md §1,
 "Energy budget"): plastic = Σ σ:Δε^p of the Mohr–Coulomb returns, base friction / impact = the
 tangential / normal kinetic energy removed by the base's velocity corrections, residual = what

@@ -48,6 +48,13 @@ class MohrCoulomb(ElasticMaterial):
         "stress-free, and re-compacts to it without elastic rebound; needs grain_density; "
         "excludes recompaction; absent = off",
     )
+    cell_averaged_disconnection: bool = Field(
+        False,
+        strict=True,
+        description="with critical_packing_fraction: true = the disconnection test uses the mean J "
+        "of the particle's background cell (sum V / sum V0 at the start of the step: the cell's "
+        "packing) instead of the particle's own J; false (default) = the particle's own",
+    )
     # μ(I) friction (mu_i.rs): present = the friction angle follows the inertial number.
     inertial_friction_angle: bounded(0.0, 90.0, lo_open=True, hi_open=True) | None = Field(  # type: ignore[valid-type]
         None,
@@ -103,6 +110,10 @@ class MohrCoulomb(ElasticMaterial):
                 errors.append((f"{prefix}grain_density",
                                f"must be >= density = {fmt(self.density)} (the bulk density of the grains) "
                                f"(got {fmt(self.grain_density)})"))
+        if self.cell_averaged_disconnection and self.critical_packing_fraction is None:
+            errors.append((f"{prefix}cell_averaged_disconnection",
+                           "= true needs critical_packing_fraction (it changes how the disconnected "
+                           "state is detected)"))
         if self.critical_packing_fraction is not None:
             if self.recompaction:
                 errors.append((f"{prefix}critical_packing_fraction",
