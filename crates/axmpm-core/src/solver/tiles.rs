@@ -310,4 +310,214 @@ mod tests {
         assert_eq!(particles.position, before);
         assert_eq!(again.tiles, order.tiles);
     }
+
+    /// A tile's zone is exactly its cells' nodes widened by HALO nodes on every side, clipped
+    /// at node 0: no narrower (its particles' stencils must fit) and no wider (the zones of one
+    /// colour's tiles, 2 TILE nodes apart, leave a gap of one node only).
+    #[test]
+    fn zone_is_the_tiles_cell_nodes_widened_by_halo_clipped_at_node_zero() {
+        let span = |k: u32| {
+            let first = k as i64 * TILE as i64 - HALO as i64;
+            [first.max(0) as u32, (k + 1) * TILE + HALO]
+        };
+        for a in 0..7 {
+            for b in 0..7 {
+                let z = Tile { coords: [a, b], start: 0, end: 1 }.zone();
+                assert_eq!(z, NodeBox { columns: span(a), rows: span(b) }, "tile ({a}, {b})");
+            }
+        }
+        // Spelled out for the first tiles: nodes 0..=11, 5..=19, 13..=27 (TILE 8, HALO 3).
+        assert_eq!(Tile { coords: [0, 1], start: 0, end: 1 }.zone(), NodeBox { columns: [0, 11], rows: [5, 19] });
+        assert_eq!(Tile { coords: [2, 0], start: 0, end: 1 }.zone(), NodeBox { columns: [13, 27], rows: [0, 11] });
+    }
+
+    /// `inside` holds for a box equal to the outer box or within it, and fails as soon as the
+    /// inner box sticks out by one node on any single side (the case of a particle whose
+    /// stencil leaves its tile's zone by one node: it must go to the one-thread part).
+    #[test]
+    fn inside_fails_when_the_box_sticks_out_by_one_node_on_any_one_side() {
+        let outer = NodeBox { columns: [4, 10], rows: [20, 30] };
+        assert!(inside(outer, outer));
+        assert!(inside(NodeBox { columns: [5, 9], rows: [21, 29] }, outer));
+        assert!(inside(NodeBox { columns: [4, 4], rows: [30, 30] }, outer));
+        assert!(inside(NodeBox { columns: [10, 10], rows: [20, 20] }, outer));
+        let sticking_out = [
+            ("left", NodeBox { columns: [3, 10], rows: [20, 30] }),
+            ("right", NodeBox { columns: [4, 11], rows: [20, 30] }),
+            ("bottom", NodeBox { columns: [4, 10], rows: [19, 30] }),
+            ("top", NodeBox { columns: [4, 10], rows: [20, 31] }),
+            ("left, within the rows", NodeBox { columns: [3, 5], rows: [22, 23] }),
+            ("top, within the columns", NodeBox { columns: [6, 7], rows: [29, 31] }),
+            ("all four sides", NodeBox { columns: [3, 11], rows: [19, 31] }),
+            ("beside it", NodeBox { columns: [11, 12], rows: [20, 30] }),
+        ];
+        for (side, inner) in sticking_out {
+            assert!(!inside(inner, outer), "{side}: {inner:?}");
+        }
+    }
+
+    /// A particle on the grid's upper edge or outside the grid (it has failed the step, but is
+    /// sorted first) goes to the tile of the nearest cell: the last cell holds x = upper, and the
+    /// tile numbers stay within the tile counts.
+    #[test]
+    fn particles_on_or_outside_the_grids_edges_go_to_the_nearest_edge_tile() {
+        let grid = GridGeometry::new([0.0, 0.0], [4.0, 3.0], 0.1); // 40 × 30 cells, 5 × 4 tiles
+        let tiles = tile_counts(&grid);
+        assert_eq!(tiles, [5, 4]);
+        let cases = [
+            ([4.0, 3.0], [4, 3]),   // the upper corner: cell (39, 29)
+            ([4.25, 3.5], [4, 3]),  // past it
+            ([4.0, 1.25], [4, 1]),  // on the right edge, cell row 12
+            ([1.65, 3.0], [2, 3]),  // on the top edge, cell column 16
+            ([-0.3, -0.2], [0, 0]), // below the origin
+            ([-1.0, 2.05], [0, 2]), // left of it, cell row 20
+            ([0.05, 0.05], [0, 0]),
+        ];
+        let mut particles = Particles { state_stride: 1, ..Default::default() };
+        for (x, t) in cases {
+            assert_eq!(tile_of_key(tiles, tile_key(&grid, tiles, x)), t, "{x:?}");
+            particles.push(x, [0.0; 2], 1.0, 1.0, [0.05; 2], [0.0; 4], 0);
+        }
+        let order = sort_particles(&grid, &mut particles, &mut 0.0);
+        for t in &order.tiles {
+            for p in t.range() {
+                assert_eq!(t.coords, cases[particles.id[p] as usize].1, "particle {}", particles.id[p]);
+            }
+        }
+        assert_eq!(order.tiles.iter().map(|t| t.range().len()).sum::<usize>(), cases.len());
+    }
+
+    /// A sort in which no particle keeps its index is applied (the permutation is not taken
+    /// for the identity), every array following its particle.
+    #[test]
+    fn sort_moves_the_particles_when_none_keeps_its_place() {
+        let grid = GridGeometry::new([0.0, 0.0], [4.0, 3.0], 0.1); // 5 × 4 tiles
+        let mut particles = Particles { state_stride: 1, ..Default::default() };
+        // Tiles (1, 0) (colour 1), (0, 1) (colour 2), (0, 0) (colour 0): sorted 2, 0, 1.
+        for (k, x) in [[1.05, 0.05], [0.05, 1.05], [0.05, 0.05]].into_iter().enumerate() {
+            particles.push(x, [k as f64, 0.0], 1.0, 1.0, [0.05; 2], [0.0; 4], 0);
+        }
+        let order = sort_particles(&grid, &mut particles, &mut 0.0);
+        assert_eq!(particles.id, [2, 0, 1]);
+        assert_eq!(particles.position, [[0.05, 0.05], [1.05, 0.05], [0.05, 1.05]]);
+        assert_eq!(particles.velocity, [[2.0, 0.0], [0.0, 0.0], [1.0, 0.0]]);
+        let tile = |a, b, k| Tile { coords: [a, b], start: k, end: k + 1 };
+        assert_eq!(order.tiles, [tile(0, 0, 0), tile(1, 0, 1), tile(0, 1, 2)]);
+        assert_eq!([order.colour(0), order.colour(1), order.colour(2), order.colour(3)], [0..1, 1..2, 2..3, 3..3]);
+    }
+
+    /// The colour ranges partition the tile list in order: colour c's range holds exactly the
+    /// tiles of colour c, the ranges follow each other from 0 to the number of tiles, a colour
+    /// without tiles has an empty range; the order is empty exactly when it has no tiles.
+    #[test]
+    fn colour_ranges_partition_the_tiles_colour_by_colour() {
+        let tile = |a, b| Tile { coords: [a, b], start: 0, end: 1 };
+        assert!(TileOrder::default().is_empty());
+        let lists = [
+            vec![],
+            vec![tile(0, 0), tile(2, 0), tile(1, 0), tile(0, 1), tile(4, 3), tile(1, 1), tile(3, 1)],
+            vec![tile(1, 0), tile(1, 2)],             // colour 1 only
+            vec![tile(0, 0), tile(1, 1)],             // colours 0 and 3
+            vec![tile(0, 1), tile(2, 1), tile(1, 1)], // colours 2 and 3
+            vec![tile(0, 2), tile(1, 0), tile(3, 0)], // colours 0 and 1
+        ];
+        for tiles in lists {
+            let order = TileOrder::from_tiles(tiles.clone());
+            assert_eq!(order.is_empty(), tiles.is_empty(), "{tiles:?}");
+            assert_eq!(order.reach.len(), tiles.len());
+            let mut next = 0;
+            for c in 0..COLOURS {
+                let range = order.colour(c);
+                assert_eq!(range.start, next, "colour {c} of {tiles:?}");
+                assert_eq!(range.len(), tiles.iter().filter(|t| t.colour() == c).count(), "colour {c} of {tiles:?}");
+                assert!(tiles[range.clone()].iter().all(|t| t.colour() == c), "colour {c} of {tiles:?}");
+                next = range.end;
+            }
+            assert_eq!(next, tiles.len());
+        }
+    }
+
+    /// For grids of 1 to 40 cells a side (whole and partial tiles) with one particle at the
+    /// centre of every cell, created in reverse order: every particle lands in exactly one tile,
+    /// its cell's, in creation order within it; each tile's cells' nodes lie in its zone; the
+    /// zones of one colour's tiles are pairwise disjoint.
+    #[test]
+    fn every_cell_lands_in_its_tile_and_one_colours_zones_are_disjoint_for_many_grid_sizes() {
+        for nx in [1usize, 2, 7, 8, 9, 16, 17, 24, 33] {
+            for ny in [1usize, 5, 8, 9, 23, 40] {
+                let grid = GridGeometry::new([-1.0, 2.0], [nx as f64 * 0.5, ny as f64 * 0.5], 0.5);
+                let mut particles = Particles { state_stride: 1, ..Default::default() };
+                for j in (0..ny).rev() {
+                    for i in (0..nx).rev() {
+                        let x = [-1.0 + (i as f64 + 0.5) * 0.5, 2.0 + (j as f64 + 0.5) * 0.5];
+                        particles.push(x, [0.0; 2], 1.0, 1.0, [0.125; 2], [0.0; 4], 0);
+                    }
+                }
+                let order = sort_particles(&grid, &mut particles, &mut 0.0);
+                let size = format!("{nx} × {ny} cells");
+                assert_eq!(order.tiles.len(), nx.div_ceil(TILE as usize) * ny.div_ceil(TILE as usize), "{size}");
+                let mut next = 0;
+                for t in &order.tiles {
+                    assert_eq!(t.start, next, "{size}");
+                    assert!(t.end > t.start, "{size}");
+                    next = t.end;
+                    for p in t.range() {
+                        let [i, j] = grid.cell_of(particles.position[p]);
+                        assert_eq!(t.coords, [i as u32 / TILE, j as u32 / TILE], "{size}");
+                        let cell = NodeBox { columns: [i as u32, i as u32 + 1], rows: [j as u32, j as u32 + 1] };
+                        assert!(inside(cell, t.zone()), "{size}");
+                        if p > t.start as usize {
+                            assert!(particles.id[p] > particles.id[p - 1], "{size}: stable within a tile");
+                        }
+                    }
+                }
+                assert_eq!(next as usize, nx * ny, "{size}");
+                for c in 0..COLOURS {
+                    let same = &order.tiles[order.colour(c)];
+                    for (k, t) in same.iter().enumerate() {
+                        assert_eq!(t.colour(), c, "{size}");
+                        for u in &same[k + 1..] {
+                            assert!(!boxes_overlap(t.zone(), u.zone()), "{size}: {:?} {:?}", t.coords, u.coords);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// `zero_box` zeroes exactly the box's nodes (its columns clipped to the row), and nothing
+    /// for an empty box.
+    #[test]
+    fn zero_box_zeroes_the_boxs_nodes_and_no_other() {
+        let (nx, ny) = (7, 6);
+        let mut field = vec![1.0f64; nx * ny];
+        zero_box(&mut field, nx, NodeBox::EMPTY);
+        assert!(field.iter().all(|&v| v == 1.0));
+        zero_box(&mut field, nx, NodeBox { columns: [2, 4], rows: [1, 3] });
+        zero_box(&mut field, nx, NodeBox { columns: [5, 20], rows: [5, 5] });
+        for j in 0..ny {
+            for i in 0..nx {
+                let zeroed = ((2..=4).contains(&i) && (1..=3).contains(&j)) || (i >= 5 && j == 5);
+                assert_eq!(field[j * nx + i], if zeroed { 0.0 } else { 1.0 }, "node ({i}, {j})");
+            }
+        }
+    }
+
+    /// The sort adds the time of its one-thread part to `serial_seconds` (the step's serial
+    /// time in the timings): it accumulates, it does not reset or subtract.
+    #[test]
+    fn sort_adds_its_one_thread_time_to_serial_seconds() {
+        let grid = GridGeometry::new([0.0, 0.0], [4.0, 3.0], 0.1);
+        let mut particles = Particles { state_stride: 1, ..Default::default() };
+        for k in 0..2000u32 {
+            let x = [(k as f64 * 0.618_034).fract() * 3.999, (k as f64 * 0.414_214).fract() * 2.999];
+            particles.push(x, [0.0; 2], 1.0, 1.0, [0.05; 2], [0.0; 4], 0);
+        }
+        let mut serial = 1.0;
+        sort_particles(&grid, &mut particles, &mut serial);
+        let first = serial;
+        assert!(first > 1.0 && first < 61.0, "{first}");
+        sort_particles(&grid, &mut particles, &mut serial);
+        assert!(serial > first && serial < first + 60.0, "{first} then {serial}");
+    }
 }
