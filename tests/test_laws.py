@@ -107,3 +107,12 @@ def test_planar_laws_are_unconfirmed_and_tabulated_for_plane_strain():
     assert lube["runout_confirmed"] is False
     assert lube["runout_normalised_rel_diff"] == pytest.approx(7.0 / (1.9 * 5.4 ** (2 / 3)) - 1.0)
     assert get_law("kumar2015_dem") is KUMAR_2015_DEM
+
+
+def test_runout_formula_states_each_regime_with_its_range_and_marks_unconfirmed_ones():
+    from axmpm.cases.column_collapse.laws import LAJEUNESSE_2004_KK, LUBE_2004, LUBE_2005_PLANAR
+
+    assert LUBE_2004.runout_formula() == "1.24 a (a < 1.7), 1.6 a^0.5 (a > 1.7)"
+    # Only the unconfirmed branch of a law with a confirmed one is marked.
+    assert LAJEUNESSE_2004_KK.runout_formula() == "1.35 a (a < 0.74) (unconf.), 2 a^0.5 (a > 0.74)"
+    assert LUBE_2005_PLANAR.runout_formula() == "1.2 a (a < 2.3), 1.9 a^(2/3) (a > 2.3)"

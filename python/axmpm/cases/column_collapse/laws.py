@@ -113,6 +113,27 @@ class Law:
             height_confirmed=None if he is None else he.confirmed,
         )
 
+    def runout_formula(self) -> str:
+        """The runout regimes as text, e.g. ``1.24 a (a < 1.7), 1.6 a^0.5 (a > 1.7)``; in a law
+        with some confirmed regimes the unconfirmed ones are marked ``(unconf.)``."""
+        mixed = any(r.confirmed for r in self.runout) and not all(r.confirmed for r in self.runout)
+        parts = []
+        for r in self.runout:
+            if abs(r.exponent - 1.0) < 1e-12:
+                power = "a"
+            elif abs(r.exponent - 2 / 3) < 1e-12:
+                power = "a^(2/3)"
+            else:
+                power = f"a^{r.exponent:g}"
+            bounds = []
+            if r.a_min > 0.0:
+                bounds.append(f"a > {r.a_min:g}")
+            if math.isfinite(r.a_max):
+                bounds.append(f"a < {r.a_max:g}")
+            mark = " (unconf.)" if mixed and not r.confirmed else ""
+            parts.append(f"{r.coefficient:g} {power}" + (f" ({', '.join(bounds)})" if bounds else "") + mark)
+        return ", ".join(parts)
+
     def discontinuities(self) -> list[dict[str, float | str]]:
         """Jumps at the regime transitions: quantity, a, value below, value above, relative jump."""
         out: list[dict[str, float | str]] = []

@@ -203,13 +203,12 @@ def _energy_runs(cases: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 
 def _comparison_text(formulation: str) -> str:
+    """The tabulated laws' runout formulas (laws.py), for the fit's paragraph."""
+    laws = "; ".join(f"{law.label} {law.runout_formula()}" for law in TABLE_LAWS[formulation])
     if formulation == "plane_strain":
         return ("For comparison (planar laws, all secondary quotations of medium–low confidence, "
-                "docs/physics.md §6a): Lube et al. 2005 1.2 a (a < 2.3) and 1.9 a^(2/3) above; Lajeunesse "
-                "et al. 2005 1.8 a (a < 3) and 2.3 a^(2/3) above; Kumar 2015 2D DEM 1.67 a (a < 2.5) and "
-                "2.6 a^(2/3) above (quoted 2.5–2.7).")
-    return ("For comparison: Lube et al. 2004 1.24 a (a < 1.7) and 1.6 a^0.5 (a > 1.7); Lajeunesse et al. "
-            "2004 2.0 a^0.5 (a ≳ 0.74).")
+                f"docs/physics.md §6a): {laws}.")
+    return f"For comparison: {laws}."
 
 
 def _laws_note(formulation: str) -> str:
