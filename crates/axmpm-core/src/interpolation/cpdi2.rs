@@ -378,6 +378,26 @@ mod tests {
         }
     }
 
+    /// In axisymmetry a domain reaching across the axis is evaluated at its corners clamped to
+    /// r = 0 in every pass, exactly as if those corners lay on the axis (partition of unity
+    /// alone cannot tell: bilinear weights extrapolated to r < 0 still sum to one).
+    #[test]
+    fn corners_across_the_axis_are_evaluated_on_the_axis() {
+        for (centre, half) in [([0.01, 0.5], [0.025, 0.025]), ([0.004, 0.33], [0.01, 0.02]), ([0.02, 0.61], [0.03, 0.01])] {
+            let c = Particles::rectangle_corners(centre, half);
+            assert!(c.iter().any(|x| x[0] < 0.0), "the test needs a corner across the axis");
+            let on_axis = c.map(|x| [x[0].max(0.0), x[1]]);
+            let (a, b) = (cpdi2(c, true), cpdi2(on_axis, true));
+            assert_eq!(a.len, b.len);
+            for k in 0..a.len {
+                assert_eq!(a.node[k], b.node[k]);
+                assert_eq!(a.weight[k].to_bits(), b.weight[k].to_bits(), "{centre:?} entry {k}");
+                assert_eq!(a.gradient[k][0].to_bits(), b.gradient[k][0].to_bits(), "{centre:?} entry {k}");
+                assert_eq!(a.gradient[k][1].to_bits(), b.gradient[k][1].to_bits(), "{centre:?} entry {k}");
+            }
+        }
+    }
+
     #[test]
     fn partition_of_unity_near_the_axis() {
         let mut xs = Vec::new();
