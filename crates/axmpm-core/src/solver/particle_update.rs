@@ -348,23 +348,36 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
             },
         )
     });
-    let grid = &inputs.grid;
     let serial_start = std::time::Instant::now();
-    cell_volume.fill(0.0);
-    cell_dilatation.fill(0.0);
-    for ((x, &v), l) in particles.position.iter().zip(&particles.volume).zip(gradients.iter()) {
-        let cell = grid.cell_index(*x);
-        cell_volume[cell] += v;
-        cell_dilatation[cell] += v * dilatation(l);
-    }
-    for (d, &v) in cell_dilatation.iter_mut().zip(cell_volume.iter()) {
-        if v > 0.0 {
-            *d /= v;
-        }
-    }
+    let terms = particles.volume.iter().zip(gradients.iter()).map(|(&v, l)| (v, v * dilatation(l)));
+    cell_weighted_mean(&inputs.grid, &particles.position, terms, cell_volume, cell_dilatation);
     *serial_seconds += serial_start.elapsed().as_secs_f64();
 }
 
+/// Per background cell, Σ_p w_p into `weight_sum` and Σ_p (w a)_p / Σ_p w_p into `mean` (0 in
+/// empty cells), over the particles whose centre lies in the cell; `terms` gives (w_p, w_p a_p)
+/// in particle order. The sums run in that order on one thread, so they do not depend on the
+/// thread count.
+fn cell_weighted_mean(
+    grid: &GridGeometry,
+    positions: &[[f64; 2]],
+    terms: impl Iterator<Item = (f64, f64)>,
+    weight_sum: &mut [f64],
+    mean: &mut [f64],
+) {
+    weight_sum.fill(0.0);
+    mean.fill(0.0);
+    for (x, (w, weighted)) in positions.iter().zip(terms) {
+        let cell = grid.cell_index(*x);
+        weight_sum[cell] += w;
+        mean[cell] += weighted;
+    }
+    for (m, &w) in mean.iter_mut().zip(weight_sum.iter()) {
+        if w > 0.0 {
+            *m /= w;
+        }
+    }
+}
 
 /// Σ V / Σ V0 of the particles whose centre lies in each background cell, at the start of the
 /// step, into `cell_jacobian` (0 in empty cells): the cell's mean J, V0-weighted, i.e. its
@@ -378,18 +391,8 @@ fn cell_mean_jacobian(
     serial_seconds: &mut f64,
 ) {
     let serial_start = std::time::Instant::now();
-    cell_initial_volume.fill(0.0);
-    cell_jacobian.fill(0.0);
-    for ((x, &v), &v0) in particles.position.iter().zip(&particles.volume).zip(&particles.initial_volume) {
-        let cell = grid.cell_index(*x);
-        cell_initial_volume[cell] += v0;
-        cell_jacobian[cell] += v;
-    }
-    for (j, &v0) in cell_jacobian.iter_mut().zip(cell_initial_volume.iter()) {
-        if v0 > 0.0 {
-            *j /= v0;
-        }
-    }
+    let terms = particles.initial_volume.iter().zip(&particles.volume).map(|(&v0, &v)| (v0, v));
+    cell_weighted_mean(grid, &particles.position, terms, cell_initial_volume, cell_jacobian);
     *serial_seconds += serial_start.elapsed().as_secs_f64();
 }
 
