@@ -222,3 +222,46 @@ def test_pure_flip_runout_does_not_depend_on_the_step_count(tmp_path):
     blend_soft, blend_stiff = runout(1e6, 0.99), runout(1e7, 0.99)
     assert blend_soft - blend_stiff > 0.02, (blend_soft, blend_stiff)  # the step-count damping
     assert soft > blend_soft
+
+
+def test_builder_gate_is_a_lifted_rigid_tube():
+    """gate_speed replaces the removed roller wall by a rigid tube at r = R_i rising at that speed."""
+    from axmpm.cases.column_collapse.case import ColumnCollapse
+
+    s = collapse_scenario(2.0, gate_speed=0.5)
+    assert [w.removal_time for w in s.walls] == [None]  # only the base is left
+    (tube,) = s.rigid_bodies
+    assert tube.name == "cylinder" and tube.shape == "rectangle"
+    assert tube.min == pytest.approx((0.03, 0.0)) and tube.max == pytest.approx((0.034, 0.064))
+    assert [list(row) for row in tube.motion] == [[0.0, 0.0, 0.5]]
+    assert tube.friction == pytest.approx(math.tan(math.radians(25.0)))  # default: the sand's
+    assert collapse_scenario(2.0, gate_speed=0.5, gate_friction=0.16).rigid_bodies[0].friction == 0.16
+    # head-room for the sand the tube drags up: half the column above the usual grid
+    plain = collapse_scenario(2.0)
+    assert s.grid.extent[1] == pytest.approx(plain.grid.extent[1] + 0.5 * 0.06)
+    # a later release: at rest until then
+    late = collapse_scenario(2.0, gate_speed=0.5, release_time=0.1).rigid_bodies[0]
+    assert [list(r) for r in late.motion] == [[0.1, 0.0, 0.0], [pytest.approx(0.1 + 1e-6), 0.0, 0.5]]
+    assert ColumnCollapse().matches(s.to_dict()) and ColumnCollapse().matches(plain.to_dict())
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(ValueError, match="gate_speed"):
+            collapse_scenario(2.0, gate_speed=bad)
+
+
+def test_lifted_tube_holds_the_sand_above_its_bottom_edge(tmp_path):
+    """While the tube rises, sand leaves only below its bottom edge (z ≤ V t): with the wall
+    removed at once the same column has sand beyond R_i higher up."""
+    from axmpm.run.output import load_run
+    from axmpm.run.runner import run
+
+    V, t_end = 0.5, 0.08
+    kwargs = dict(cell_size=0.004, end_time=t_end, output_interval=t_end, stop_at_rest=0.0, stop_when_settled=0.0)
+    heights = {}
+    radius = collapse_scenario(2.0, gate_speed=V, **kwargs).rigid_bodies[0].min[0]  # R_i on the 4 mm grid
+    for name, gate in (("gate", V), ("instant", None)):
+        run(collapse_scenario(2.0, gate_speed=gate, **kwargs), tmp_path / name, threads=1, progress=False)
+        last = load_run(tmp_path / name).last
+        outside = last.x[:, 0] > radius + 0.001  # beyond the tube's inner face by a quarter cell
+        heights[name] = float(last.x[outside, 1].max()) if outside.any() else 0.0
+    assert 0.0 < heights["gate"] <= V * t_end + 0.002, heights
+    assert heights["instant"] > heights["gate"] + 0.008, heights  # two cells higher

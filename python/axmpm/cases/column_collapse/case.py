@@ -518,8 +518,10 @@ class ColumnCollapse:
         return run.params["nominal_aspect_ratio"]  # taller columns take longer
 
     def matches(self, resolved: dict[str, Any]) -> bool:
-        """A scenario looks like a column collapse when some wall has a removal time."""
-        return any(w.get("removal_time") is not None for w in resolved.get("walls") or [])
+        """A scenario looks like a column collapse when some wall has a removal time or the
+        cylinder is a lifted rigid tube (``gate_speed``)."""
+        return any(w.get("removal_time") is not None for w in resolved.get("walls") or []) \
+            or any(b.get("name") == "cylinder" for b in resolved.get("rigid_bodies") or [])
 
     def checks(self, results: list[dict[str, Any]]) -> list[dict[str, Any]]:
         """Each column completed (the comparison with the laws is reported, not enforced)."""

@@ -46,6 +46,13 @@ DEFAULTS: dict[str, Any] = {
     # mesh) and set the runout (docs/validation.md, "Why the runout moved with the mesh").
     "flip_fraction": 1.0,
     "release_time": 0.0,  # s, wall removal; 0 = from the geostatic state at t = 0+
+    # The confining cylinder lifted at a finite speed instead of removed at once: None = removed
+    # at release_time (the seed set-up); a speed V (m/s) makes it a rigid tube (wall thickness
+    # gate_thickness cells) that rises at V from release_time, in Coulomb contact with the sand
+    # at gate_friction (docs/validation.md, "The lifted cylinder").
+    "gate_speed": None,  # m/s
+    "gate_friction": None,  # Coulomb μ bead–tube; None = tan(friction_angle)
+    "gate_thickness": 2,  # cells
     "end_time": 1.0,  # s
     "output_interval": 0.02,  # s, the seed paper's profile interval
     "stop_at_rest": 1e-5,  # kinetic energy / work of gravity
@@ -103,6 +110,9 @@ def collapse_scenario(
     update_scheme: str = DEFAULTS["update_scheme"],
     flip_fraction: float = DEFAULTS["flip_fraction"],
     release_time: float = DEFAULTS["release_time"],
+    gate_speed: float | None = DEFAULTS["gate_speed"],
+    gate_friction: float | None = DEFAULTS["gate_friction"],
+    gate_thickness: int = DEFAULTS["gate_thickness"],
     end_time: float = DEFAULTS["end_time"],
     output_interval: float = DEFAULTS["output_interval"],
     stop_at_rest: float = DEFAULTS["stop_at_rest"],
@@ -208,6 +218,28 @@ def collapse_scenario(
             }
         ],
     }
+    if gate_speed is not None:
+        # The cylinder as a rigid tube r ∈ [R_i, R_i + t], z ∈ [0, H_i + 2h] that rises at
+        # gate_speed from release_time (constant speed: the lift's acceleration is not modelled),
+        # instead of the roller wall removed at once.
+        if not (gate_speed > 0.0 and math.isfinite(gate_speed)):
+            raise ValueError(f"gate_speed: must be a finite speed > 0 m/s (got {gate_speed})")
+        n_t = int(gate_thickness)
+        if n_t < 1:
+            raise ValueError(f"gate_thickness: must be a whole number of cells >= 1 (got {gate_thickness})")
+        mu_gate = mu if gate_friction is None else float(gate_friction)
+        data["walls"] = [w for w in data["walls"] if w.get("removal_time") is None]
+        motion = [[0.0, 0.0, float(gate_speed)]] if release_time <= 0.0 else \
+            [[release_time, 0.0, 0.0], [release_time + 1e-6, 0.0, float(gate_speed)]]
+        data["rigid_bodies"] = [{
+            "name": "cylinder", "shape": "rectangle",
+            "min": [R_i, 0.0], "max": [R_i + n_t * h, H_i + 2 * h],
+            "motion": motion, "friction": mu_gate,
+        }]
+        data["grid"]["extent"][0] = max(data["grid"]["extent"][0], (n_r + n_t + 2 + n_behind) * h)
+        # Head-room: the tube's friction drags the sand next to it upwards (at a = 10 and
+        # 0.5 m/s a particle left a grid H_i + 4h tall at t = 0.027 s).
+        data["grid"]["extent"][1] += math.ceil(0.5 * n_z) * h
     if as_dict:
         return data
     return Scenario.from_dict(data)
