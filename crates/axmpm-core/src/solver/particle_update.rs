@@ -34,6 +34,15 @@ struct UpdateInputs<'a> {
     cell_jacobian: &'a [f64],
 }
 
+/// The read-only per-particle inputs of one chunk of the update pass, as slices of the chunk's
+/// length (indexed by the particle's place in its chunk without bounds checks).
+struct ChunkInputs<'a> {
+    material_ids: &'a [u32],
+    initial_volume: &'a [f64],
+    velocity: &'a [[f64; 2]],
+    displacement: &'a [[f64; 2]],
+}
+
 /// The mutable state of one particle in the update pass.
 struct ParticleUpdate<'a> {
     f: &'a mut [f64; 5],
@@ -55,8 +64,13 @@ fn velocity_gradient<F: Formulation, S: ShapeFunction>(
 ) -> [f64; 5] {
     let mut l = [0.0; 5];
     let mut vr = 0.0;
+    let strain_velocity = inputs.strain_velocity;
+    debug_assert_eq!(strain_velocity.len(), inputs.grid.num_nodes());
     S::visit_entries(&inputs.grid, cache, domain, F::AXISYMMETRIC, |node, w, dw| {
-        let v = inputs.strain_velocity[node];
+        debug_assert!(node < strain_velocity.len());
+        // SAFETY: a stencil visits only nodes of the grid (`ShapeFunction::visit_entries`),
+        // and the nodal velocities have one entry per node.
+        let v = unsafe { *strain_velocity.get_unchecked(node) };
         l[0] += v[0] * dw[0];
         l[1] += v[0] * dw[1];
         l[2] += v[1] * dw[0];
@@ -94,11 +108,14 @@ fn with_mean_dilatation<F: Formulation>(mut l: [f64; 5], mean_dilatation: f64) -
 
 /// Deformation gradient, CPDI corners, position, volume and stress of one particle from its
 /// velocity gradient `l` (and its stencil cache of the step, which the corner advection
-/// reuses); returns a failure if its new state is invalid.
+/// reuses); returns a failure if its new state is invalid. `p` is the particle's index, `i` its
+/// index in `chunk` (the per-particle inputs of its chunk).
 #[inline(always)]
 fn update_particle<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
+    chunk: &ChunkInputs,
     p: usize,
+    i: usize,
     u: ParticleUpdate,
     cache: &S::Cache,
     l: [f64; 5],
@@ -123,7 +140,7 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
 
     let x = u.position;
-    let d = inputs.displacement[p];
+    let d = chunk.displacement[i];
     x[0] += d[0];
     x[1] += d[1];
     *u.volume = match u.corners {
@@ -131,11 +148,11 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
             S::advect_corners(grid, cache, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
             S::domain_area(corners).unwrap_or(0.0) * F::volume_factor(*x)
         }
-        None => inputs.initial_volume[p] * jacobian,
+        None => chunk.initial_volume[i] * jacobian,
     };
     let cell_jacobian = cell_jacobian.unwrap_or(jacobian);
     let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, cell_jacobian, dt };
-    let material = &inputs.materials[inputs.material_ids[p] as usize];
+    let material = &inputs.materials[chunk.material_ids[i] as usize];
     match inputs.isa {
         // SAFETY: `Avx2` is only chosen on a CPU that has it (`Isa::detect`).
         #[cfg(target_arch = "x86_64")]
@@ -144,10 +161,14 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     }
 
     // All finite at once: x · 0 is ±0 for a finite x and NaN for ±∞ or NaN, so the sum of
-    // the products is zero exactly when every value is finite (one test instead of eight).
-    let (s, v) = (*u.stress, inputs.velocity[p]);
-    let zeros = [x[0], x[1], s[0], s[1], s[2], s[3], v[0], v[1]].map(|c| c * 0.0);
-    let finite = zeros.iter().sum::<f64>() == 0.0;
+    // the products is zero exactly when every value is finite (one test instead of eight),
+    // whatever the order of the additions: summed as two groups of four, pairwise, so that
+    // each group is one vector multiply and the sum a short tree.
+    let (s, v) = (*u.stress, chunk.velocity[i]);
+    let a = [x[0], x[1], s[0], s[1]].map(|c| c * 0.0);
+    let b = [s[2], s[3], v[0], v[1]].map(|c| c * 0.0);
+    let pairs = [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]];
+    let finite = (pairs[0] + pairs[2]) + (pairs[1] + pairs[3]) == 0.0;
     if !finite {
         Some(Failure::NotFinite { particle: p })
     } else if !grid.contains(*x) || (F::AXISYMMETRIC && x[0] <= 0.0) {
@@ -289,6 +310,12 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
     let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
     let initial_half_width = &inputs.initial_half_width[first..first + n];
     let material_ids = &inputs.material_ids[first..first + n];
+    let chunk_inputs = ChunkInputs {
+        material_ids,
+        initial_volume: &inputs.initial_volume[first..first + n],
+        velocity: &inputs.velocity[first..first + n],
+        displacement: &inputs.displacement[first..first + n],
+    };
     let mut failure = None;
     for i in 0..n {
         let p = first + i;
@@ -314,7 +341,7 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
             state: &mut state[slots],
             corners,
         };
-        let result = update_particle::<F, S>(&inputs, p, u, &cache[i], l);
+        let result = update_particle::<F, S>(&inputs, &chunk_inputs, p, i, u, &cache[i], l);
         // The lowest failing index of the chunk (chunks are then reduced the same way).
         if failure.is_none() {
             failure = result;
