@@ -96,7 +96,8 @@ pub trait Material: Send + Sync {
     }
 
     /// [`Material::update_stress`] of a run of particles of this model, in order: particle k
-    /// has `stress[k]`, the state `state[k · stride..k · stride + state_length]` and
+    /// has `stress[k]`, the state `state[k · stride..k · stride + state_length]` (`stride` ≥ 1,
+    /// `state` holds `stress.len()` strides) and
     /// `kinematics[k]`. One call per run instead of one per particle: the solver's update pass
     /// uses it, and the model's `update_stress` is inlined into this loop.
     #[inline(always)]
@@ -108,8 +109,8 @@ pub trait Material: Send + Sync {
         state_length: usize,
         kinematics: &[Kinematics],
     ) {
-        for (k, (s, kin)) in stress.iter_mut().zip(kinematics).enumerate() {
-            self.update_stress(s, &mut state[k * stride..k * stride + state_length], kin);
+        for ((s, kin), slots) in stress.iter_mut().zip(kinematics).zip(state.chunks_exact_mut(stride)) {
+            self.update_stress(s, &mut slots[..state_length], kin);
         }
     }
 
