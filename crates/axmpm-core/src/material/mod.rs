@@ -86,15 +86,6 @@ pub trait Material: Send + Sync {
     /// Updates `stress` (and `state`, of length `state_names().len()`) over one step.
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics);
 
-    /// [`Material::update_stress`] compiled with AVX2 (see `solver::isa`): the same operations
-    /// in the same order, so the same result bit for bit.
-    /// SAFETY: call only on a CPU with AVX2, FMA and BMI2 (`solver::Isa::Avx2`).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    unsafe fn update_stress_avx2(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics) {
-        self.update_stress(stress, state, kinematics)
-    }
-
     /// [`Material::update_stress`] of a run of particles of this model, in order: particle k
     /// has `stress[k]`, the state `state[k · stride..k · stride + state_length]` (`stride` ≥ 1,
     /// `state` holds `stress.len()` strides) and
@@ -114,7 +105,8 @@ pub trait Material: Send + Sync {
         }
     }
 
-    /// [`Material::update_stress_batch`] compiled with AVX2 (see [`Material::update_stress_avx2`]).
+    /// [`Material::update_stress_batch`] compiled with AVX2 (see `solver::isa`): the same
+    /// operations in the same order, so the same result bit for bit.
     /// SAFETY: call only on a CPU with AVX2, FMA and BMI2 (`solver::Isa::Avx2`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
