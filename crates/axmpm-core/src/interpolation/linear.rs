@@ -3,7 +3,7 @@
 
 #[cfg(doc)]
 use super::bilinear_nodes;
-use super::{fast_floor, NodeBox, ParticleDomain, ShapeFunction};
+use super::{clamped_floor, NodeBox, ParticleDomain, ShapeFunction};
 #[cfg(test)]
 use super::Stencil;
 use crate::grid::GridGeometry;
@@ -17,16 +17,15 @@ impl ShapeFunction for Linear {
     type Cache = LinearCache;
 
     #[inline(always)]
-    #[allow(clippy::manual_clamp)] // `max` before `min` maps NaN to 0, like `fast_floor`
     fn prepare(grid: &GridGeometry, domain: &ParticleDomain, _: bool, cache: &mut LinearCache) {
         // Particles are always inside the grid (the step fails as soon as one leaves it), so the
         // cell index is clamped to the grid instead of testing every node: all 4 nodes exist.
         // The clamp only matters for a particle exactly on the upper edge, which then gets
         // weight 1 and a one-sided gradient from the last cell instead of a dropped node.
         let l = grid.local(domain.position);
-        let ci = fast_floor(l[0]).max(0.0).min((grid.cells[0] - 1) as f64);
-        let cj = fast_floor(l[1]).max(0.0).min((grid.cells[1] - 1) as f64);
-        *cache = LinearCache { cell: [ci as u32, cj as u32], fraction: [l[0] - ci, l[1] - cj] };
+        let ci = clamped_floor(l[0], (grid.cells[0] - 1) as f64);
+        let cj = clamped_floor(l[1], (grid.cells[1] - 1) as f64);
+        *cache = LinearCache { cell: [ci, cj], fraction: [l[0] - ci as f64, l[1] - cj as f64] };
     }
 
     /// The 4 nodes of the particle's cell, in the order of [`bilinear_nodes`] (row by row),

@@ -137,7 +137,8 @@ pub trait ShapeFunction: Send + Sync + 'static {
     /// [`ShapeFunction::prepare`] for the same domain at the start of the step, in a fixed
     /// order. The solver's loops consume the entries as they are made (the closure is inlined
     /// into each loop, so a loop that needs no gradient never computes it) instead of writing
-    /// and re-reading a [`Stencil`].
+    /// and re-reading a [`Stencil`]. Every node visited is a node of `grid` (index below
+    /// `grid.num_nodes()`): the passes index the nodal fields with it without bounds checks.
     fn visit_entries(
         grid: &GridGeometry,
         cache: &Self::Cache,
@@ -334,6 +335,21 @@ pub fn fast_floor(x: f64) -> f64 {
     (t - ((t as f64) > x) as i64) as f64
 }
 
+/// ⌊x⌋ clamped to [0, top] (a NaN gives 0), for a cell index: equals
+/// `fast_floor(x).max(0.0).min(top)` bit for bit, but x is clamped first and then truncated,
+/// which is the floor on [0, top]: a max, a min and one conversion instead of a floor with its
+/// fix-up, two clamps and the saturation handling of `as`. `top` is a whole number of cells,
+/// 0 ≤ top < 2³¹.
+#[inline(always)]
+pub fn clamped_floor(x: f64, top: f64) -> u32 {
+    debug_assert!((0.0..2147483648.0).contains(&top) && top.fract() == 0.0);
+    // `x > 0.0` is false for a NaN, so the NaN becomes 0 (one `maxsd`, one `minsd`).
+    let c = if x > 0.0 { x } else { 0.0 };
+    let c = if c < top { c } else { top };
+    // SAFETY: 0 ≤ c ≤ top < 2³¹ and c is not NaN, so its truncation fits an i32.
+    unsafe { c.to_int_unchecked::<i32>() as u32 }
+}
+
 /// Generalised GIMP 1D weight and its derivative (Bardenhagen & Kober 2004):
 /// S(ξ) = (1/(2 l)) ∫_{ξ−l}^{ξ+l} N(s) ds, the exact average of the hat N over the particle
 /// domain, with `u = ξ/h = (x_p − x_i)/h` and `lam = l/h` both in cell units. Returns
@@ -371,6 +387,33 @@ pub fn gimp_weight(u: f64, lam: f64) -> (f64, f64) {
     }
     let inv = 0.5 / lam;
     (s * inv, d * inv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `clamped_floor` is the cell index the previous floor-then-clamp gave, on the edges that
+    /// matter: negative, −0, exact integers, just below and above `top`, far beyond, ±∞, NaN.
+    #[test]
+    fn clamped_floor_equals_floor_then_clamp() {
+        let reference = |x: f64, top: f64| fast_floor(x).max(0.0).min(top);
+        let tops = [0.0, 1.0, 7.0, 499.0];
+        // (fast_floor is exact for |x| < 2⁶³ only: below −2⁶³ its fix-up wraps round; the new
+        // function gives 0 there, checked separately.)
+        let mut xs = vec![-9.2e18, -3.5, -1.0, -1e-300, -0.0, 0.0, 1e-300, 0.5, 0.999999, 1.0, 1.5, 6.999999, 7.0,
+                          7.000001, 498.5, 499.0, 499.5, 500.0, 1e18, 1e300, f64::INFINITY, f64::NAN];
+        xs.extend((0..2000).map(|k| -3.0 + k as f64 * 0.2537));
+        for &top in &tops {
+            for &x in &xs {
+                let want = reference(x, top);
+                let got = clamped_floor(x, top);
+                assert_eq!((got as f64).to_bits(), want.to_bits(), "x = {x}, top = {top}");
+            }
+            assert_eq!(clamped_floor(-1e300, top), 0);
+            assert_eq!(clamped_floor(f64::NEG_INFINITY, top), 0);
+        }
+    }
 }
 
 #[cfg(test)]

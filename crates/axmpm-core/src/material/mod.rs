@@ -43,6 +43,17 @@ pub struct Kinematics {
     pub dt: f64,
 }
 
+impl Kinematics {
+    /// All zero (a placeholder for buffers that are filled before they are read).
+    pub const ZERO: Kinematics = Kinematics {
+        velocity_gradient: [0.0; 5],
+        deformation_gradient: [0.0; 5],
+        jacobian: 0.0,
+        cell_jacobian: 0.0,
+        dt: 0.0,
+    };
+}
+
 pub trait Material: Send + Sync {
     /// Registry name (`model = "..."`).
     fn model(&self) -> &'static str;
@@ -75,13 +86,39 @@ pub trait Material: Send + Sync {
     /// Updates `stress` (and `state`, of length `state_names().len()`) over one step.
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics);
 
-    /// [`Material::update_stress`] compiled with AVX2 (see `solver::isa`): the same operations
-    /// in the same order, so the same result bit for bit.
+    /// [`Material::update_stress`] of a run of particles of this model, in order: particle k
+    /// has `stress[k]`, the state `state[k · stride..k · stride + state_length]` (`stride` ≥ 1,
+    /// `state` holds `stress.len()` strides) and
+    /// `kinematics[k]`. One call per run instead of one per particle: the solver's update pass
+    /// uses it, and the model's `update_stress` is inlined into this loop.
+    #[inline(always)]
+    fn update_stress_batch(
+        &self,
+        stress: &mut [Stress],
+        state: &mut [f64],
+        stride: usize,
+        state_length: usize,
+        kinematics: &[Kinematics],
+    ) {
+        for ((s, kin), slots) in stress.iter_mut().zip(kinematics).zip(state.chunks_exact_mut(stride)) {
+            self.update_stress(s, &mut slots[..state_length], kin);
+        }
+    }
+
+    /// [`Material::update_stress_batch`] compiled with AVX2 (see `solver::isa`): the same
+    /// operations in the same order, so the same result bit for bit.
     /// SAFETY: call only on a CPU with AVX2, FMA and BMI2 (`solver::Isa::Avx2`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-    unsafe fn update_stress_avx2(&self, stress: &mut Stress, state: &mut [f64], kinematics: &Kinematics) {
-        self.update_stress(stress, state, kinematics)
+    unsafe fn update_stress_batch_avx2(
+        &self,
+        stress: &mut [Stress],
+        state: &mut [f64],
+        stride: usize,
+        state_length: usize,
+        kinematics: &[Kinematics],
+    ) {
+        self.update_stress_batch(stress, state, stride, state_length, kinematics)
     }
 
     /// Stored elastic energy per unit current volume at `stress` (J/m³), for the energy

@@ -893,7 +893,7 @@ impl Material for MohrCoulomb {
         }
     }
 
-    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    // Inlined into the trait's `update_stress_batch` and its AVX2 copy (solver::isa).
     #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
         // Hypoelastic Jaumann trial, identical (bit for bit) to LinearElastic.

@@ -208,7 +208,7 @@ impl Material for InertialMohrCoulomb {
         self.base.needs_cell_jacobian()
     }
 
-    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    // Inlined into the trait's `update_stress_batch` and its AVX2 copy (solver::isa).
     #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
         let (d, _) = rate_of_deformation(&k.velocity_gradient);

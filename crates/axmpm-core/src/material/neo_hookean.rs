@@ -61,7 +61,7 @@ impl Material for NeoHookean {
         p_wave_speed(self.youngs_modulus, self.poisson_ratio, self.density)
     }
 
-    // Inlined into the trait's `update_stress_avx2` too (solver::isa).
+    // Inlined into the trait's `update_stress_batch` and its AVX2 copy (solver::isa).
     #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, _state: &mut [f64], k: &Kinematics) {
         *stress = self.cauchy_stress(&k.deformation_gradient);

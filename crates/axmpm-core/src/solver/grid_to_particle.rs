@@ -104,6 +104,7 @@ unsafe fn gather<F: Formulation, S: ShapeFunction>(
 ) {
     // Local copies and slices, kept in registers across the nodal stores (see P2G).
     let Pass { grid, flip, dt, velocity_new, velocity_old, momentum } = *pass;
+    debug_assert!(velocity_new.len() == grid.num_nodes() && velocity_old.len() == grid.num_nodes());
     let corners: &[[[f64; 2]; 4]] = &particles.corners;
     // The tile's particles as slices of one length (no bounds checks in the loop).
     let n = velocity_io.len();
@@ -125,8 +126,10 @@ unsafe fn gather<F: Formulation, S: ShapeFunction>(
             let mut v_grid = [0.0; 2];
             let mut dv = [0.0; 2];
             S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
-                let vn = velocity_new[node];
-                let vo = velocity_old[node];
+                debug_assert!(node < velocity_new.len() && node < velocity_old.len());
+                // SAFETY: a stencil visits only nodes of the grid (`ShapeFunction::visit_entries`),
+                // and both nodal velocity fields have one entry per node.
+                let (vn, vo) = unsafe { (*velocity_new.get_unchecked(node), *velocity_old.get_unchecked(node)) };
                 v_grid[0] += w * vn[0];
                 v_grid[1] += w * vn[1];
                 dv[0] += w * (vn[0] - vo[0]);

@@ -15,6 +15,10 @@ use crate::particles::{DeformationGradient, Particles, Stress};
 /// Particles per parallel work item of the update pass.
 const UPDATE_CHUNK: usize = 512;
 
+/// Particles per batch of the update pass's stress updates (their kinematics on the stack:
+/// 32 × 112 B).
+const STRESS_BATCH: usize = 32;
+
 /// Read-only inputs of the per-particle update.
 #[derive(Clone, Copy)]
 struct UpdateInputs<'a> {
@@ -34,13 +38,19 @@ struct UpdateInputs<'a> {
     cell_jacobian: &'a [f64],
 }
 
+/// The read-only per-particle inputs of one chunk of the update pass, as slices of the chunk's
+/// length (indexed by the particle's place in its chunk without bounds checks).
+struct ChunkInputs<'a> {
+    initial_volume: &'a [f64],
+    velocity: &'a [[f64; 2]],
+    displacement: &'a [[f64; 2]],
+}
+
 /// The mutable state of one particle in the update pass.
 struct ParticleUpdate<'a> {
     f: &'a mut [f64; 5],
-    stress: &'a mut [f64; 4],
     volume: &'a mut f64,
     position: &'a mut [f64; 2],
-    state: &'a mut [f64],
     corners: Option<&'a mut [[f64; 2]; 4]>,
 }
 
@@ -55,8 +65,13 @@ fn velocity_gradient<F: Formulation, S: ShapeFunction>(
 ) -> [f64; 5] {
     let mut l = [0.0; 5];
     let mut vr = 0.0;
+    let strain_velocity = inputs.strain_velocity;
+    debug_assert_eq!(strain_velocity.len(), inputs.grid.num_nodes());
     S::visit_entries(&inputs.grid, cache, domain, F::AXISYMMETRIC, |node, w, dw| {
-        let v = inputs.strain_velocity[node];
+        debug_assert!(node < strain_velocity.len());
+        // SAFETY: a stencil visits only nodes of the grid (`ShapeFunction::visit_entries`),
+        // and the nodal velocities have one entry per node.
+        let v = unsafe { *strain_velocity.get_unchecked(node) };
         l[0] += v[0] * dw[0];
         l[1] += v[0] * dw[1];
         l[2] += v[1] * dw[0];
@@ -92,17 +107,19 @@ fn with_mean_dilatation<F: Formulation>(mut l: [f64; 5], mean_dilatation: f64) -
     l
 }
 
-/// Deformation gradient, CPDI corners, position, volume and stress of one particle from its
-/// velocity gradient `l` (and its stencil cache of the step, which the corner advection
-/// reuses); returns a failure if its new state is invalid.
+/// Deformation gradient, CPDI corners, position and volume of one particle from its velocity
+/// gradient `l` (and its stencil cache of the step, which the corner advection reuses);
+/// returns what the material needs for its stress update. `i` is the particle's index in
+/// `chunk` (the per-particle inputs of its chunk).
 #[inline(always)]
-fn update_particle<F: Formulation, S: ShapeFunction>(
+fn move_particle<F: Formulation, S: ShapeFunction>(
     inputs: &UpdateInputs,
-    p: usize,
+    chunk: &ChunkInputs,
+    i: usize,
     u: ParticleUpdate,
     cache: &S::Cache,
     l: [f64; 5],
-) -> Option<Failure> {
+) -> Kinematics {
     let grid = &inputs.grid;
     // The cell mean J of the particle's start-of-step cell, when a material reads it.
     let cell_jacobian = if inputs.cell_jacobian.is_empty() {
@@ -123,7 +140,7 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
     let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
 
     let x = u.position;
-    let d = inputs.displacement[p];
+    let d = chunk.displacement[i];
     x[0] += d[0];
     x[1] += d[1];
     *u.volume = match u.corners {
@@ -131,31 +148,61 @@ fn update_particle<F: Formulation, S: ShapeFunction>(
             S::advect_corners(grid, cache, inputs.advect_velocity, dt, corners, F::AXISYMMETRIC);
             S::domain_area(corners).unwrap_or(0.0) * F::volume_factor(*x)
         }
-        None => inputs.initial_volume[p] * jacobian,
+        None => chunk.initial_volume[i] * jacobian,
     };
     let cell_jacobian = cell_jacobian.unwrap_or(jacobian);
-    let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, cell_jacobian, dt };
-    let material = &inputs.materials[inputs.material_ids[p] as usize];
-    match inputs.isa {
-        // SAFETY: `Avx2` is only chosen on a CPU that has it (`Isa::detect`).
-        #[cfg(target_arch = "x86_64")]
-        Isa::Avx2 => unsafe { material.update_stress_avx2(u.stress, u.state, &kinematics) },
-        _ => material.update_stress(u.stress, u.state, &kinematics),
-    }
+    Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, cell_jacobian, dt }
+}
 
+/// Whether particle `p` (index `i` in `chunk`) is valid after its update: position, stress and
+/// velocity finite, inside the grid (off the axis in axisymmetry), J > 0.
+#[inline(always)]
+fn check_particle<F: Formulation>(
+    bounds: &GridBounds,
+    chunk: &ChunkInputs,
+    p: usize,
+    i: usize,
+    x: [f64; 2],
+    s: &Stress,
+    jacobian: f64,
+) -> Option<Failure> {
     // All finite at once: x · 0 is ±0 for a finite x and NaN for ±∞ or NaN, so the sum of
-    // the products is zero exactly when every value is finite (one test instead of eight).
-    let (s, v) = (*u.stress, inputs.velocity[p]);
-    let zeros = [x[0], x[1], s[0], s[1], s[2], s[3], v[0], v[1]].map(|c| c * 0.0);
-    let finite = zeros.iter().sum::<f64>() == 0.0;
+    // the products is zero exactly when every value is finite (one test instead of eight),
+    // whatever the order of the additions: summed as two groups of four, pairwise, so that
+    // each group is one vector multiply and the sum a short tree.
+    let v = chunk.velocity[i];
+    let a = [x[0], x[1], s[0], s[1]].map(|c| c * 0.0);
+    let b = [s[2], s[3], v[0], v[1]].map(|c| c * 0.0);
+    let pairs = [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]];
+    let finite = (pairs[0] + pairs[2]) + (pairs[1] + pairs[3]) == 0.0;
     if !finite {
         Some(Failure::NotFinite { particle: p })
-    } else if !grid.contains(*x) || (F::AXISYMMETRIC && x[0] <= 0.0) {
-        Some(Failure::LeftGrid { particle: p, position: *x })
+    } else if !(bounds.contains(x) & (!F::AXISYMMETRIC | (x[0] > 0.0))) {
+        Some(Failure::LeftGrid { particle: p, position: x })
     } else if !(jacobian > 0.0) {
         Some(Failure::InvertedJacobian { particle: p, jacobian })
     } else {
         None
+    }
+}
+
+/// The grid's closed box, for the test that a particle is still inside it: the same
+/// comparisons as [`GridGeometry::contains`], with the upper corner computed once.
+#[derive(Clone, Copy)]
+struct GridBounds {
+    lower: [f64; 2],
+    upper: [f64; 2],
+}
+
+impl GridBounds {
+    fn of(grid: &GridGeometry) -> Self {
+        GridBounds { lower: grid.origin, upper: grid.upper() }
+    }
+
+    /// `&` instead of `&&`: four comparisons and no branches (the usual answer is true).
+    #[inline(always)]
+    fn contains(&self, x: [f64; 2]) -> bool {
+        (x[0] >= self.lower[0]) & (x[1] >= self.lower[1]) & (x[0] <= self.upper[0]) & (x[1] <= self.upper[1])
     }
 }
 
@@ -289,35 +336,66 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
     let (stress, volume, position, cache) = (&mut stress[..n], &mut volume[..n], &mut position[..n], &cache[..n]);
     let initial_half_width = &inputs.initial_half_width[first..first + n];
     let material_ids = &inputs.material_ids[first..first + n];
+    let chunk_inputs = ChunkInputs {
+        initial_volume: &inputs.initial_volume[first..first + n],
+        velocity: &inputs.velocity[first..first + n],
+        displacement: &inputs.displacement[first..first + n],
+    };
+    let bounds = GridBounds::of(&inputs.grid);
     let mut failure = None;
-    for i in 0..n {
-        let p = first + i;
-        let corners = corners.as_mut().map(|c| &mut c[i]);
-        let domain = ParticleDomain {
-            position: position[i],
-            initial_half_width: initial_half_width[i],
-            deformation_gradient: &f[i],
-            corners: corners.as_deref(),
-        };
-        let l = match source {
-            GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, &domain, &cache[i]),
-            GradientSource::CellAveraged { gradients, cell_mean_dilatation } => {
-                with_mean_dilatation::<F>(gradients[p], cell_mean_dilatation[inputs.grid.cell_index(domain.position)])
+    // In batches: the kinematics of a batch, then the stress update of each run of particles
+    // of one material in one call (the model's parameters stay in registers, and there is one
+    // dynamic dispatch per run instead of per particle), then the checks.
+    let mut kinematics = [Kinematics::ZERO; STRESS_BATCH];
+    for start in (0..n).step_by(STRESS_BATCH) {
+        let end = (start + STRESS_BATCH).min(n);
+        for (i, kin) in (start..end).zip(kinematics.iter_mut()) {
+            let p = first + i;
+            let corners = corners.as_mut().map(|c| &mut c[i]);
+            let domain = ParticleDomain {
+                position: position[i],
+                initial_half_width: initial_half_width[i],
+                deformation_gradient: &f[i],
+                corners: corners.as_deref(),
+            };
+            let l = match source {
+                GradientSource::Stencil => velocity_gradient::<F, S>(&inputs, &domain, &cache[i]),
+                GradientSource::CellAveraged { gradients, cell_mean_dilatation } => with_mean_dilatation::<F>(
+                    gradients[p],
+                    cell_mean_dilatation[inputs.grid.cell_index(domain.position)],
+                ),
+            };
+            let u = ParticleUpdate { f: &mut f[i], volume: &mut volume[i], position: &mut position[i], corners };
+            *kin = move_particle::<F, S>(&inputs, &chunk_inputs, i, u, &cache[i], l);
+        }
+        let mut run_start = start;
+        while run_start < end {
+            let id = material_ids[run_start];
+            let run_end = (run_start + 1..end).find(|&j| material_ids[j] != id).unwrap_or(end);
+            let material = &inputs.materials[id as usize];
+            let state_length = inputs.state_lengths[id as usize];
+            let stress_run = &mut stress[run_start..run_end];
+            let state_run = &mut state[run_start * stride..run_end * stride];
+            let kinematics_run = &kinematics[run_start - start..run_end - start];
+            match inputs.isa {
+                // SAFETY: `Avx2` is only chosen on a CPU that has it (`Isa::detect`).
+                #[cfg(target_arch = "x86_64")]
+                Isa::Avx2 => unsafe {
+                    material.update_stress_batch_avx2(stress_run, state_run, stride, state_length, kinematics_run)
+                },
+                _ => material.update_stress_batch(stress_run, state_run, stride, state_length, kinematics_run),
             }
-        };
-        let slots = i * stride..i * stride + inputs.state_lengths[material_ids[i] as usize];
-        let u = ParticleUpdate {
-            f: &mut f[i],
-            stress: &mut stress[i],
-            volume: &mut volume[i],
-            position: &mut position[i],
-            state: &mut state[slots],
-            corners,
-        };
-        let result = update_particle::<F, S>(&inputs, p, u, &cache[i], l);
+            run_start = run_end;
+        }
         // The lowest failing index of the chunk (chunks are then reduced the same way).
         if failure.is_none() {
-            failure = result;
+            for (i, kin) in (start..end).zip(&kinematics) {
+                let result = check_particle::<F>(&bounds, &chunk_inputs, first + i, i, position[i], &stress[i], kin.jacobian);
+                if result.is_some() {
+                    failure = result;
+                    break;
+                }
+            }
         }
     }
     failure

@@ -27,7 +27,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::grid::{GridGeometry, NodeBox};
-use crate::interpolation::fast_floor;
+use crate::interpolation::clamped_floor;
 use crate::particles::Particles;
 
 /// Cells per tile side. 8 × 8 cells hold 256 particles at 2 × 2 per cell: a tile's stencil
@@ -137,7 +137,7 @@ fn tile_counts(grid: &GridGeometry) -> [u32; 2] {
 fn tile_key(grid: &GridGeometry, tiles: [u32; 2], x: [f64; 2]) -> u32 {
     // The cell, clamped to the grid (particles outside it have failed the step already).
     let l = grid.local(x);
-    let cell = |l: f64, n: usize| (fast_floor(l).max(0.0) as u32).min(n as u32 - 1);
+    let cell = |l: f64, n: usize| clamped_floor(l, (n - 1) as f64);
     let (a, b) = (cell(l[0], grid.cells[0]) / TILE, cell(l[1], grid.cells[1]) / TILE);
     let colour = (a & 1) + 2 * (b & 1);
     (colour * tiles[1] + b) * tiles[0] + a
