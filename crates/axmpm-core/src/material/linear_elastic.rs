@@ -78,6 +78,13 @@ mod tests {
         Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, cell_jacobian: 1.0, dt }
     }
 
+    /// A model that does not read the cells' mean J does not ask the solver for it (the
+    /// trait's default; the solver then skips that pass).
+    #[test]
+    fn does_not_ask_for_the_cell_jacobian() {
+        assert!(!LinearElastic::new(2000.0, 10e6, 0.25).needs_cell_jacobian());
+    }
+
     #[test]
     fn uniaxial_strain_increment_by_hand() {
         // E = 10 MPa, ν = 0.25: λ = 4 MPa, μ = 4 MPa. dε11 = 1e-4 → σ11 = (λ+2μ)·1e-4 = 1200 Pa,

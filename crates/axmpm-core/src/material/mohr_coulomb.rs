@@ -2422,4 +2422,82 @@ mod tests {
         assert_eq!(step(&cell, 1.1, 2.0), [0.0; 4]);
         assert!(step(&own, 1.1, 2.0)[0] < -100.0);
     }
+
+    /// At J = J_c exactly the material is still connected (disconnected only above J_c), for the
+    /// particle's own J and for the cell's mean J alike.
+    #[test]
+    fn at_the_critical_jacobian_the_material_is_still_connected() {
+        let jc = 1.2;
+        let own = disconnecting(25.0, 0.0, jc);
+        let cell = disconnecting(25.0, 0.0, jc).with_cell_averaged_disconnection(true);
+        let dt = 1e-4;
+        let k = |jacobian: f64, cell_jacobian: f64| Kinematics {
+            velocity_gradient: [-1e-3 / dt, 0.0, 0.0, -1e-3 / dt, 0.0],
+            deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0],
+            jacobian,
+            cell_jacobian,
+            dt,
+        };
+        for (m, kinematics) in [(&own, k(jc, 2.0)), (&cell, k(2.0, jc))] {
+            let mut s = [-100.0, -100.0, -100.0, 0.0];
+            let mut state = [0.0; 4];
+            m.update_stress(&mut s, &mut state, &kinematics);
+            assert!(s[0] < -100.0 && s[1] < -100.0, "connected at J_c: compressed, got {s:?}");
+        }
+    }
+
+    /// Above J_s the whole elastic increment (every component, not only the normal ones) is the
+    /// one of the material as placed times s = J_s/J; the spin-free step has no rotation term.
+    #[test]
+    fn dilute_material_stress_increment_is_the_plain_one_times_js_over_j() {
+        let plain = mc(25.0, 0.0, 0.0, 0.0);
+        let mut limited = plain.clone();
+        limited.limit_wave_speed(3.0 * plain.wave_speed()); // J_s = 9
+        assert!((limited.stable_jacobian - 9.0).abs() < 1e-12, "{}", limited.stable_jacobian);
+        let dt = 1e-5;
+        // Symmetric gradient (no spin), all four strain components non-zero, small enough to
+        // stay elastic from the confined start below.
+        let l = [-2e-7 / dt, 1.5e-7 / dt, 1.5e-7 / dt, -1e-7 / dt, 0.5e-7 / dt];
+        let start = [-1e3, -1.2e3, -0.9e3, 50.0];
+        for jacobian in [12.0, 40.0, 1000.0] {
+            let k = at_jacobian(l, dt, jacobian);
+            let (mut a, mut b) = (start, start);
+            let (mut sa, mut sb) = ([0.0; 3], [0.0; 3]);
+            plain.update_stress(&mut a, &mut sa, &k);
+            limited.update_stress(&mut b, &mut sb, &k);
+            let s = 9.0 / jacobian;
+            for c in 0..4 {
+                let (da, db) = (a[c] - start[c], b[c] - start[c]);
+                assert!(da.abs() > 1e-3, "component {c}: a non-trivial increment {da}");
+                assert!((db - s * da).abs() <= 1e-9 * da.abs(), "J = {jacobian}, component {c}: {db} vs {s} × {da}");
+            }
+            assert_eq!(sb, [0.0; 3], "elastic: nothing plastic");
+        }
+    }
+
+    /// A disconnected particle books its trial as plastic strain with the compliance of the
+    /// moduli in use, (s C⁻¹)⁻¹: from σ = 0 that is the step's strain increment itself, with or
+    /// without the limit (module doc, "Dilute material and the time step").
+    #[test]
+    fn a_disconnected_dilute_particle_books_its_strain_increment_as_plastic() {
+        let plain = disconnecting(25.0, 0.0, 1.2);
+        let mut limited = plain.clone();
+        limited.limit_wave_speed(3.0 * plain.wave_speed()); // J_s = 9 < J below
+        let dt = 1e-4;
+        let l = [-2e-3 / dt, 1e-3 / dt, 0.5e-3 / dt, 0.5e-3 / dt, -1e-3 / dt];
+        let (d, _) = rate_of_deformation(&l);
+        let de = d.map(|x| x * dt);
+        let vol = de[0] + de[1] + de[2];
+        let dev = [de[0] - vol / 3.0, de[1] - vol / 3.0, de[2] - vol / 3.0];
+        let shear = (2.0 / 3.0 * (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2] + 2.0 * de[3] * de[3])).sqrt();
+        for m in [&plain, &limited] {
+            let mut s = [0.0; 4];
+            let mut state = [0.0; 4];
+            m.update_stress(&mut s, &mut state, &at_jacobian(l, dt, 40.0));
+            assert_eq!(s, [0.0; 4], "disconnected: stress-free");
+            assert!((state[1] - vol).abs() <= 1e-9 * vol.abs(), "plastic volume {} vs {vol}", state[1]);
+            assert!((state[0] - shear).abs() <= 1e-9 * shear, "plastic shear {} vs {shear}", state[0]);
+            assert_eq!(state[DISCONNECTION_WORK], 0.0, "from σ = 0 nothing is discarded");
+        }
+    }
 }

@@ -330,6 +330,19 @@ mod tests {
         assert!(db < 0.0 && (da - 0.01 * db).abs() < 1e-9 * db.abs(), "limited {da} vs plain {db}");
     }
 
+    /// The solver computes the cells' mean J only for a model that reads it: μ(I) asks exactly
+    /// when its Mohr–Coulomb base does (`cell_averaged_disconnection`).
+    #[test]
+    fn needs_the_cell_jacobian_exactly_when_its_base_does() {
+        let plain = model();
+        assert!(!plain.needs_cell_jacobian());
+        let base = plain.base.clone().with_disconnection(Some(1.2)).with_cell_averaged_disconnection(true);
+        let phi_2 = (32.76f64).to_radians().tan().asin().to_degrees();
+        let cell = InertialMohrCoulomb::new(base, phi_2, 0.279, 1.15e-3, 2500.0);
+        assert!(cell.needs_cell_jacobian());
+        assert!(cell.at_friction(0.5).needs_cell_jacobian(), "kept at every friction μ(I) picks");
+    }
+
     /// Without shearing the update is the rate-independent one, bit for bit.
     #[test]
     fn no_shear_is_plain_mohr_coulomb() {

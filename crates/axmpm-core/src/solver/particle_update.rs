@@ -489,12 +489,16 @@ mod tests {
         p.initial_volume = vec![1.0, 2.0, 4.0];
         p.volume = vec![1.0, 6.0, 2.0];
         let (mut v0, mut j) = (vec![0.0; 6], vec![0.0; 6]);
-        let mut serial = 0.0;
+        let mut serial = 1.0;
         cell_mean_jacobian(&grid, &p, &mut v0, &mut j, &mut serial);
         let want = [7.0 / 3.0, 0.0, 0.0, 0.0, 0.0, 0.5];
         for (cell, (&got, &w)) in j.iter().zip(&want).enumerate() {
             assert!((got - w).abs() < 1e-15, "cell {cell}: {got} vs {w}");
         }
+        // Its one-thread time is added to the step's serial seconds (not reset or subtracted).
+        assert!((1.0..61.0).contains(&serial), "{serial}");
+        // Σ V0 per cell alongside.
+        assert_eq!(v0, vec![3.0, 0.0, 0.0, 0.0, 0.0, 4.0]);
         assert_eq!(grid.cell_index([0.25, 0.15]), 5);
     }
 }
