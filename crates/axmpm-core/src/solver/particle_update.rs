@@ -489,10 +489,10 @@ mod tests {
     }
 
     /// Grid x ∈ [0, 2], y ∈ [−1, 1]; a valid particle state (index 1 of the chunk inputs).
-    fn check<F: Formulation>(grid: &GridGeometry, x: [f64; 2], s: Stress, v: [f64; 2], jacobian: f64) -> Option<Failure> {
+    fn check<F: Formulation>(grid: &GridGeometry, x: [f64; 2], s: Stress, v: [f64; 2], j: f64) -> Option<Failure> {
         let velocity = [[0.0, 0.0], v];
         let chunk = ChunkInputs { initial_volume: &[1.0; 2], velocity: &velocity, displacement: &[[0.0; 2]; 2] };
-        check_particle::<F>(&GridBounds::of(grid), &chunk, 7, 1, x, &s, jacobian)
+        check_particle::<F>(&GridBounds::of(grid), &chunk, 7, 1, x, &s, j)
     }
 
     /// The particle check, against its definition: any of position, stress and velocity not
@@ -505,7 +505,8 @@ mod tests {
         let (x, s, v, j) = ([1.0, 0.3], [1e5, -2e5, 3e4, -1e4], [1.0, -2.0], 0.9);
         assert_eq!(check::<PlaneStrain>(&grid, x, s, v, j), None);
         assert_eq!(check::<Axisymmetric>(&grid, x, s, v, j), None);
-        assert_eq!(check::<PlaneStrain>(&grid, [1e-300, -1e-300], [1e300, -1e300, 0.0, -0.0], [-0.0, 1e300], 1e-300), None);
+        let (tiny, huge) = ([1e-300, -1e-300], [1e300, -1e300, 0.0, -0.0]);
+        assert_eq!(check::<PlaneStrain>(&grid, tiny, huge, [-0.0, 1e300], 1e-300), None);
         // Each of the eight values alone, NaN or ±∞.
         for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             for k in 0..8 {
@@ -518,7 +519,8 @@ mod tests {
         }
         // Not finite first, then off the grid, then inverted.
         let nan_stress = [f64::NAN, 0.0, 0.0, 0.0];
-        assert_eq!(check::<PlaneStrain>(&grid, [3.0, 0.0], nan_stress, v, -1.0), Some(Failure::NotFinite { particle: 7 }));
+        let not_finite = Some(Failure::NotFinite { particle: 7 });
+        assert_eq!(check::<PlaneStrain>(&grid, [3.0, 0.0], nan_stress, v, -1.0), not_finite);
         let off = Some(Failure::LeftGrid { particle: 7, position: [3.0, 0.0] });
         assert_eq!(check::<PlaneStrain>(&grid, [3.0, 0.0], s, v, -1.0), off);
         // The closed box: every edge and corner is inside, one ulp beyond is not.
@@ -530,10 +532,11 @@ mod tests {
             assert_eq!(check::<PlaneStrain>(&grid, p, s, v, j), Some(Failure::LeftGrid { particle: 7, position: p }));
         }
         // Axisymmetry: r = 0 (on the axis) is off the grid, r > 0 inside is not.
-        assert_eq!(check::<Axisymmetric>(&grid, [0.0, 0.5], s, v, j), Some(Failure::LeftGrid { particle: 7, position: [0.0, 0.5] }));
+        let left_at = |position| Some(Failure::LeftGrid { particle: 7, position });
+        assert_eq!(check::<Axisymmetric>(&grid, [0.0, 0.5], s, v, j), left_at([0.0, 0.5]));
         assert_eq!(check::<Axisymmetric>(&grid, [1e-12, 0.5], s, v, j), None);
         assert_eq!(check::<Axisymmetric>(&grid, [2.0, 0.5], s, v, j), None);
-        assert_eq!(check::<Axisymmetric>(&grid, [up(2.0), 0.5], s, v, j), Some(Failure::LeftGrid { particle: 7, position: [up(2.0), 0.5] }));
+        assert_eq!(check::<Axisymmetric>(&grid, [up(2.0), 0.5], s, v, j), left_at([up(2.0), 0.5]));
         // Plane strain has no axis: x ≤ 0 inside a grid that extends there is fine.
         let left = GridGeometry::new([-1.0, -1.0], [2.0, 2.0], 0.5);
         assert_eq!(check::<PlaneStrain>(&left, [-0.5, 0.0], s, v, j), None);
@@ -541,7 +544,9 @@ mod tests {
         assert_eq!(check::<PlaneStrain>(&left, [0.5, 0.0], s, v, j), None);
         for bad in [0.0, -0.0, -0.5, f64::NAN, f64::NEG_INFINITY] {
             let got = check::<PlaneStrain>(&grid, x, s, v, bad);
-            assert!(matches!(got, Some(Failure::InvertedJacobian { particle: 7, jacobian }) if jacobian.to_bits() == bad.to_bits()), "J = {bad}: {got:?}");
+            let inverted =
+                matches!(got, Some(Failure::InvertedJacobian { particle: 7, jacobian }) if jacobian.to_bits() == bad.to_bits());
+            assert!(inverted, "J = {bad}: {got:?}");
         }
     }
 
@@ -620,8 +625,12 @@ mod tests {
             velocity: (0..total).map(|p| [u(p, 1) - 0.5, u(p, 2)]).collect(),
             displacement: (0..total).map(|p| [1e-3 * (u(p, 3) - 0.5), 1e-3 * u(p, 4)]).collect(),
             gradients: (0..total).map(|p| [u(p, 0) - 0.5, u(p, 1), -u(p, 2), u(p, 3) - 0.5, 0.1 * u(p, 4)]).collect(),
-            f: (first..total).map(|p| [1.0 + 0.1 * u(p, 5), 0.05 * u(p, 6), -0.03 * u(p, 1), 0.95, 1.0 + 0.02 * u(p, 2)]).collect(),
-            stress: (first..total).map(|p| [-1e4 * u(p, 1), 2e4 * (u(p, 2) - 0.5), -3e3 * u(p, 3), 5e3 * u(p, 4)]).collect(),
+            f: (first..total)
+                .map(|p| [1.0 + 0.1 * u(p, 5), 0.05 * u(p, 6), -0.03 * u(p, 1), 0.95, 1.0 + 0.02 * u(p, 2)])
+                .collect(),
+            stress: (first..total)
+                .map(|p| [-1e4 * u(p, 1), 2e4 * (u(p, 2) - 0.5), -3e3 * u(p, 3), 5e3 * u(p, 4)])
+                .collect(),
             volume: vec![0.0; n],
             position: (first..total).map(|p| [0.05 + 0.9 * u(p, 3), 0.05 + 0.9 * u(p, 6)]).collect(),
             state: (first * STRIDE..total * STRIDE).map(|k| 1e-3 * unit(k)).collect(),
@@ -671,7 +680,8 @@ mod tests {
             })
             .collect();
         let source = if averaged {
-            GradientSource::CellAveraged { gradients: &c.gradients[start..], cell_mean_dilatation: &cell_mean_dilatation }
+            let gradients = &c.gradients[start..];
+            GradientSource::CellAveraged { gradients, cell_mean_dilatation: &cell_mean_dilatation }
         } else {
             GradientSource::Stencil
         };
@@ -743,17 +753,20 @@ mod tests {
             let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
             let d = c0.displacement[p];
             assert_eq!(c.position[i], [c0.position[i][0] + d[0], c0.position[i][1] + d[1]], "{what}");
-            assert!(close(c.volume[i], c0.initial_volume[p] * jacobian, 0.0), "{what}: V {} vs {}", c.volume[i], c0.initial_volume[p] * jacobian);
+            let volume = c0.initial_volume[p] * jacobian;
+            assert!(close(c.volume[i], volume, 0.0), "{what}: V {} vs {volume}", c.volume[i]);
             let id = c0.material_ids[p] as usize;
             let mut stress = c0.stress[i];
             let mut state = c0.state[i * STRIDE..(i + 1) * STRIDE].to_vec();
-            let kinematics = Kinematics { velocity_gradient: l, deformation_gradient: f, jacobian, cell_jacobian: jacobian, dt: DT };
+            let kinematics =
+                Kinematics { velocity_gradient: l, deformation_gradient: f, jacobian, cell_jacobian: jacobian, dt: DT };
             materials[id].update_stress(&mut stress, &mut state[..state_lengths[id]], &kinematics);
             for k in 0..4 {
                 assert!(close(c.stress[i][k], stress[k], 1e4), "{what}: stress {:?} vs {stress:?}", c.stress[i]);
             }
             for k in 0..STRIDE {
-                assert!(close(c.state[i * STRIDE + k], state[k], 1e-3), "{what}: state {:?} vs {state:?}", &c.state[i * STRIDE..]);
+                let got = &c.state[i * STRIDE..(i + 1) * STRIDE];
+                assert!(close(got[k], state[k], 1e-3), "{what}: state {got:?} vs {state:?}");
             }
             if id == 1 && c.state[i * STRIDE] != c0.state[i * STRIDE] {
                 yielded += 1;
@@ -807,11 +820,14 @@ mod tests {
         assert_eq!(run(&c), Some(Failure::LeftGrid { particle: first + 45, position: x }));
         c.displacement[first + 45] = c0.displacement[first + 45];
         let got = run(&c);
-        assert!(matches!(got, Some(Failure::InvertedJacobian { particle, jacobian }) if particle == first + 66 && jacobian < 0.0), "{got:?}");
+        let inverted_at = |got: Option<Failure>, p: usize| {
+            matches!(got, Some(Failure::InvertedJacobian { particle, jacobian }) if particle == p && jacobian < 0.0)
+        };
+        assert!(inverted_at(got.clone(), first + 66), "{got:?}");
         // One more in the first batch comes first.
         c.f[3] = [0.0, 1.0, 1.0, 0.0, 1.0];
         let got = run(&c);
-        assert!(matches!(got, Some(Failure::InvertedJacobian { particle, jacobian }) if particle == first + 3 && jacobian < 0.0), "{got:?}");
+        assert!(inverted_at(got.clone(), first + 3), "{got:?}");
         // Only the last particle of the chunk.
         let mut c = c0.clone();
         c.velocity[first + n - 1][0] = f64::INFINITY;
