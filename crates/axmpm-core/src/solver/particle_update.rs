@@ -478,6 +478,362 @@ fn cell_mean_jacobian(
 mod tests {
     use super::*;
 
+    use crate::formulation::{Axisymmetric, PlaneStrain};
+    use crate::interpolation::linear::LinearCache;
+    use crate::interpolation::Linear;
+    use crate::material::{LinearElastic, VonMises};
+
+    /// A deterministic scatter in [0, 1) (golden-ratio sequence).
+    fn unit(k: usize) -> f64 {
+        (0.1 + k as f64 * 0.618_033_988_749_895).fract()
+    }
+
+    /// Grid x ∈ [0, 2], y ∈ [−1, 1]; a valid particle state (index 1 of the chunk inputs).
+    fn check<F: Formulation>(grid: &GridGeometry, x: [f64; 2], s: Stress, v: [f64; 2], j: f64) -> Option<Failure> {
+        let velocity = [[0.0, 0.0], v];
+        let chunk = ChunkInputs { initial_volume: &[1.0; 2], velocity: &velocity, displacement: &[[0.0; 2]; 2] };
+        check_particle::<F>(&GridBounds::of(grid), &chunk, 7, 1, x, &s, j)
+    }
+
+    /// The particle check, against its definition: any of position, stress and velocity not
+    /// finite → NotFinite; outside the closed grid box (or on/behind the axis in axisymmetry)
+    /// → LeftGrid; J ≤ 0 or NaN → InvertedJacobian; in that order of precedence, and naming
+    /// the particle's global index (7), not its place in the chunk inputs (1).
+    #[test]
+    fn check_particle_flags_non_finite_values_points_off_the_grid_and_inverted_jacobians() {
+        let grid = GridGeometry::new([0.0, -1.0], [2.0, 2.0], 0.5);
+        let (x, s, v, j) = ([1.0, 0.3], [1e5, -2e5, 3e4, -1e4], [1.0, -2.0], 0.9);
+        assert_eq!(check::<PlaneStrain>(&grid, x, s, v, j), None);
+        assert_eq!(check::<Axisymmetric>(&grid, x, s, v, j), None);
+        let (tiny, huge) = ([1e-300, -1e-300], [1e300, -1e300, 0.0, -0.0]);
+        assert_eq!(check::<PlaneStrain>(&grid, tiny, huge, [-0.0, 1e300], 1e-300), None);
+        // Each of the eight values alone, NaN or ±∞.
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for k in 0..8 {
+                let mut values = [x[0], x[1], s[0], s[1], s[2], s[3], v[0], v[1]];
+                values[k] = bad;
+                let [x0, x1, s0, s1, s2, s3, v0, v1] = values;
+                let got = check::<PlaneStrain>(&grid, [x0, x1], [s0, s1, s2, s3], [v0, v1], j);
+                assert_eq!(got, Some(Failure::NotFinite { particle: 7 }), "value {k} = {bad}");
+            }
+        }
+        // Not finite first, then off the grid, then inverted.
+        let nan_stress = [f64::NAN, 0.0, 0.0, 0.0];
+        let not_finite = Some(Failure::NotFinite { particle: 7 });
+        assert_eq!(check::<PlaneStrain>(&grid, [3.0, 0.0], nan_stress, v, -1.0), not_finite);
+        let off = Some(Failure::LeftGrid { particle: 7, position: [3.0, 0.0] });
+        assert_eq!(check::<PlaneStrain>(&grid, [3.0, 0.0], s, v, -1.0), off);
+        // The closed box: every edge and corner is inside, one ulp beyond is not.
+        let (up, down) = (f64::next_up, f64::next_down);
+        for p in [[0.0, -1.0], [2.0, 1.0], [0.0, 1.0], [2.0, -1.0], [1.0, -1.0], [1.0, 1.0], [0.0, 0.5], [2.0, 0.5]] {
+            assert_eq!(check::<PlaneStrain>(&grid, p, s, v, j), None, "{p:?}");
+        }
+        for p in [[down(0.0), 0.0], [up(2.0), 0.0], [1.0, down(-1.0)], [1.0, up(1.0)], [-5.0, 5.0], [5.0, -5.0]] {
+            assert_eq!(check::<PlaneStrain>(&grid, p, s, v, j), Some(Failure::LeftGrid { particle: 7, position: p }));
+        }
+        // Axisymmetry: r = 0 (on the axis) is off the grid, r > 0 inside is not.
+        let left_at = |position| Some(Failure::LeftGrid { particle: 7, position });
+        assert_eq!(check::<Axisymmetric>(&grid, [0.0, 0.5], s, v, j), left_at([0.0, 0.5]));
+        assert_eq!(check::<Axisymmetric>(&grid, [1e-12, 0.5], s, v, j), None);
+        assert_eq!(check::<Axisymmetric>(&grid, [2.0, 0.5], s, v, j), None);
+        assert_eq!(check::<Axisymmetric>(&grid, [up(2.0), 0.5], s, v, j), left_at([up(2.0), 0.5]));
+        // Plane strain has no axis: x ≤ 0 inside a grid that extends there is fine.
+        let left = GridGeometry::new([-1.0, -1.0], [2.0, 2.0], 0.5);
+        assert_eq!(check::<PlaneStrain>(&left, [-0.5, 0.0], s, v, j), None);
+        assert_eq!(check::<PlaneStrain>(&left, [0.0, 0.0], s, v, j), None);
+        assert_eq!(check::<PlaneStrain>(&left, [0.5, 0.0], s, v, j), None);
+        for bad in [0.0, -0.0, -0.5, f64::NAN, f64::NEG_INFINITY] {
+            let got = check::<PlaneStrain>(&grid, x, s, v, bad);
+            let inverted =
+                matches!(got, Some(Failure::InvertedJacobian { particle: 7, jacobian }) if jacobian.to_bits() == bad.to_bits());
+            assert!(inverted, "J = {bad}: {got:?}");
+        }
+    }
+
+    /// `GridBounds::contains` is `GridGeometry::contains` (the closed box), on the edges, one
+    /// ulp either side of them, and on a lattice across and around the grid.
+    #[test]
+    fn grid_bounds_contain_the_points_the_grid_contains() {
+        let grid = GridGeometry::new([-0.3, 0.2], [1.2, 0.8], 0.1);
+        let bounds = GridBounds::of(&grid);
+        let u = grid.upper();
+        let near = |a: f64| [a.next_down(), a, a.next_up()];
+        let mut xs: Vec<f64> = [grid.origin[0], u[0]].iter().flat_map(|&a| near(a)).collect();
+        let mut ys: Vec<f64> = [grid.origin[1], u[1]].iter().flat_map(|&a| near(a)).collect();
+        xs.extend((0..40).map(|k| -0.6 + k as f64 * 0.05));
+        ys.extend((0..40).map(|k| -0.1 + k as f64 * 0.05));
+        let (mut inside, mut outside) = (0, 0);
+        for &x in &xs {
+            for &y in &ys {
+                let want = grid.contains([x, y]);
+                assert_eq!(bounds.contains([x, y]), want, "({x}, {y})");
+                if want { inside += 1 } else { outside += 1 }
+            }
+        }
+        assert!(inside > 100 && outside > 100);
+        assert!(bounds.contains(grid.origin) && bounds.contains(u));
+        assert!(!bounds.contains([f64::NAN, 0.5]) && !bounds.contains([0.0, f64::NAN]));
+    }
+
+    /// Particles of one chunk of the update pass, after `first` particles of other chunks: the
+    /// per-particle inputs cover all of them, the arrays the pass writes only the chunk's.
+    #[derive(Clone)]
+    struct Chunk {
+        material_ids: Vec<u32>,
+        initial_volume: Vec<f64>,
+        initial_half_width: Vec<[f64; 2]>,
+        velocity: Vec<[f64; 2]>,
+        displacement: Vec<[f64; 2]>,
+        gradients: Vec<[f64; 5]>,
+        f: Vec<[f64; 5]>,
+        stress: Vec<Stress>,
+        volume: Vec<f64>,
+        position: Vec<[f64; 2]>,
+        state: Vec<f64>,
+    }
+
+    const STRIDE: usize = 3;
+    const DT: f64 = 0.01;
+    /// The nodal velocity field v = B + A x: linear, so every stencil gives L = A exactly
+    /// (up to rounding).
+    const A: [[f64; 2]; 2] = [[0.3, -0.2], [0.5, -0.1]];
+    const B: [f64; 2] = [0.05, -0.02];
+
+    fn grid() -> GridGeometry {
+        GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.125)
+    }
+
+    /// Material 0 elastic, material 1 von Mises with a yield stress the particles' stresses
+    /// exceed (so its two state slots change every step), 3 state slots per particle.
+    fn materials() -> (Vec<Box<dyn Material>>, Vec<usize>) {
+        let m: Vec<Box<dyn Material>> =
+            vec![Box::new(LinearElastic::new(1000.0, 1e6, 0.3)), Box::new(VonMises::new(1000.0, 5e6, 0.25, 2e3, 1e4))];
+        let lengths = m.iter().map(|m| m.state_names().len()).collect();
+        (m, lengths)
+    }
+
+    /// `first + n` particles spread over the grid, each with its own F, stress and state; the
+    /// materials interleaved in runs of 1 to 6 that cross the batches' boundaries (32, 64).
+    fn chunk(first: usize, n: usize) -> Chunk {
+        let total = first + n;
+        let pattern = [0, 0, 1, 0, 1, 1, 1, 0, 1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 0, 1];
+        let u = |p: usize, k: usize| unit(7 * p + k);
+        Chunk {
+            material_ids: (0..total).map(|p| pattern[(p + 3) % pattern.len()]).collect(),
+            initial_volume: (0..total).map(|p| 0.01 * (1.0 + u(p, 0))).collect(),
+            initial_half_width: vec![[0.03, 0.03]; total],
+            velocity: (0..total).map(|p| [u(p, 1) - 0.5, u(p, 2)]).collect(),
+            displacement: (0..total).map(|p| [1e-3 * (u(p, 3) - 0.5), 1e-3 * u(p, 4)]).collect(),
+            gradients: (0..total).map(|p| [u(p, 0) - 0.5, u(p, 1), -u(p, 2), u(p, 3) - 0.5, 0.1 * u(p, 4)]).collect(),
+            f: (first..total)
+                .map(|p| [1.0 + 0.1 * u(p, 5), 0.05 * u(p, 6), -0.03 * u(p, 1), 0.95, 1.0 + 0.02 * u(p, 2)])
+                .collect(),
+            stress: (first..total)
+                .map(|p| [-1e4 * u(p, 1), 2e4 * (u(p, 2) - 0.5), -3e3 * u(p, 3), 5e3 * u(p, 4)])
+                .collect(),
+            volume: vec![0.0; n],
+            position: (first..total).map(|p| [0.05 + 0.9 * u(p, 3), 0.05 + 0.9 * u(p, 6)]).collect(),
+            state: (first * STRIDE..total * STRIDE).map(|k| 1e-3 * unit(k)).collect(),
+        }
+    }
+
+    /// Runs `update_chunk` on chunk `k` of `c` with the input arrays of `c` from particle
+    /// `offset` on, with the nodal field v = B + A x.
+    fn run_chunk<F: Formulation>(c: &mut Chunk, k: usize, offset: usize, averaged: bool, isa: Isa) -> Option<Failure> {
+        let grid = grid();
+        let nodal: Vec<[f64; 2]> = (0..grid.num_nodes())
+            .map(|node| {
+                let x = grid.node_position(node);
+                [B[0] + A[0][0] * x[0] + A[0][1] * x[1], B[1] + A[1][0] * x[0] + A[1][1] * x[1]]
+            })
+            .collect();
+        let cells = grid.cells[0] * grid.cells[1];
+        let cell_mean_dilatation: Vec<f64> = (0..cells).map(|cell| 0.2 * unit(cell) - 0.1).collect();
+        let (materials, state_lengths) = materials();
+        let start = offset;
+        let inputs = UpdateInputs {
+            grid,
+            dt: DT,
+            strain_velocity: &nodal,
+            advect_velocity: &nodal,
+            materials: &materials,
+            state_lengths: &state_lengths,
+            material_ids: &c.material_ids[start..],
+            initial_volume: &c.initial_volume[start..],
+            initial_half_width: &c.initial_half_width[start..],
+            velocity: &c.velocity[start..],
+            displacement: &c.displacement[start..],
+            isa,
+            cell_jacobian: &[],
+        };
+        let cache: Vec<LinearCache> = (0..c.f.len())
+            .map(|i| {
+                let mut cache = LinearCache::default();
+                let domain = ParticleDomain {
+                    position: c.position[i],
+                    initial_half_width: c.initial_half_width[start + k * UPDATE_CHUNK + i],
+                    deformation_gradient: &c.f[i],
+                    corners: None,
+                };
+                Linear::prepare(&grid, &domain, F::AXISYMMETRIC, &mut cache);
+                cache
+            })
+            .collect();
+        let source = if averaged {
+            let gradients = &c.gradients[start..];
+            GradientSource::CellAveraged { gradients, cell_mean_dilatation: &cell_mean_dilatation }
+        } else {
+            GradientSource::Stencil
+        };
+        let arrays = ChunkArrays::<Linear> {
+            f: &mut c.f,
+            stress: &mut c.stress,
+            volume: &mut c.volume,
+            position: &mut c.position,
+            state: &mut c.state,
+            cache: &cache,
+            corners: None,
+        };
+        update_chunk::<F, Linear>(&inputs, source, STRIDE, k, arrays)
+    }
+
+    /// The velocity gradient particle `p` at `x` should get: A (and v_r / r in axisymmetry)
+    /// from the linear field, or with cell averaging its stored gradient with tr L replaced
+    /// by the cell's mean dilatation, spread over the 2 (3) normal components.
+    fn expected_l<F: Formulation>(c: &Chunk, p: usize, x: [f64; 2], averaged: bool) -> [f64; 5] {
+        if averaged {
+            let grid = grid();
+            let cells = grid.cells[0];
+            let cell = (x[1] / grid.cell_size).floor() as usize * cells + (x[0] / grid.cell_size).floor() as usize;
+            let mean = 0.2 * unit(cell) - 0.1;
+            let g = c.gradients[p];
+            let normal = if F::AXISYMMETRIC { 3.0 } else { 2.0 };
+            let corr = (mean - (g[0] + g[3] + g[4])) / normal;
+            [g[0] + corr, g[1], g[2], g[3] + corr, if F::AXISYMMETRIC { g[4] + corr } else { g[4] }]
+        } else {
+            let hoop = if F::AXISYMMETRIC { (B[0] + A[0][0] * x[0] + A[0][1] * x[1]) / x[0] } else { 0.0 };
+            [A[0][0], A[0][1], A[1][0], A[1][1], hoop]
+        }
+    }
+
+    fn close(a: f64, b: f64, scale: f64) -> bool {
+        (a - b).abs() <= 1e-9 * scale.max(b.abs())
+    }
+
+    /// The batched update pass (kinematics in batches of 32, one stress call per run of one
+    /// material, chunk 1 of the particles) against its definition particle by particle: F ←
+    /// (I + Δt L) F with L from the closed form, x ← x + Δx, V = V0 J, the stress and state
+    /// of each particle's own material called on its own kinematics; and bit for bit against
+    /// the same pass run on each particle alone (a chunk of one, one run of one).
+    fn batched_update_is_the_particle_by_particle_update<F: Formulation>(averaged: bool, isa: Isa) {
+        let n = 70;
+        let first = UPDATE_CHUNK;
+        let c0 = chunk(first, n);
+        let mut c = c0.clone();
+        assert_eq!(run_chunk::<F>(&mut c, 1, 0, averaged, isa), None);
+        let (materials, state_lengths) = materials();
+        let mut yielded = 0;
+        for i in 0..n {
+            let p = first + i;
+            let what = format!("{} averaged {averaged} {isa:?}: particle {i}", F::NAME);
+            // Closed forms.
+            let l = expected_l::<F>(&c0, p, c0.position[i], averaged);
+            let f0 = c0.f[i];
+            let a = [1.0 + DT * l[0], DT * l[1], DT * l[2], 1.0 + DT * l[3]];
+            let f = [
+                a[0] * f0[0] + a[1] * f0[2],
+                a[0] * f0[1] + a[1] * f0[3],
+                a[2] * f0[0] + a[3] * f0[2],
+                a[2] * f0[1] + a[3] * f0[3],
+                (1.0 + DT * l[4]) * f0[4],
+            ];
+            for k in 0..5 {
+                assert!(close(c.f[i][k], f[k], 1.0), "{what}: F {:?} vs {f:?}", c.f[i]);
+            }
+            let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
+            let d = c0.displacement[p];
+            assert_eq!(c.position[i], [c0.position[i][0] + d[0], c0.position[i][1] + d[1]], "{what}");
+            let volume = c0.initial_volume[p] * jacobian;
+            assert!(close(c.volume[i], volume, 0.0), "{what}: V {} vs {volume}", c.volume[i]);
+            let id = c0.material_ids[p] as usize;
+            let mut stress = c0.stress[i];
+            let mut state = c0.state[i * STRIDE..(i + 1) * STRIDE].to_vec();
+            let kinematics =
+                Kinematics { velocity_gradient: l, deformation_gradient: f, jacobian, cell_jacobian: jacobian, dt: DT };
+            materials[id].update_stress(&mut stress, &mut state[..state_lengths[id]], &kinematics);
+            for k in 0..4 {
+                assert!(close(c.stress[i][k], stress[k], 1e4), "{what}: stress {:?} vs {stress:?}", c.stress[i]);
+            }
+            for k in 0..STRIDE {
+                let got = &c.state[i * STRIDE..(i + 1) * STRIDE];
+                assert!(close(got[k], state[k], 1e-3), "{what}: state {got:?} vs {state:?}");
+            }
+            if id == 1 && c.state[i * STRIDE] != c0.state[i * STRIDE] {
+                yielded += 1;
+            }
+            // One particle alone, bit for bit.
+            let mut one = c0.clone();
+            one.f = vec![c0.f[i]];
+            one.stress = vec![c0.stress[i]];
+            one.volume = vec![0.0];
+            one.position = vec![c0.position[i]];
+            one.state = c0.state[i * STRIDE..(i + 1) * STRIDE].to_vec();
+            assert_eq!(run_chunk::<F>(&mut one, 0, p, averaged, isa), None);
+            assert_eq!(one.f[0].map(f64::to_bits), c.f[i].map(f64::to_bits), "{what}");
+            assert_eq!(one.stress[0].map(f64::to_bits), c.stress[i].map(f64::to_bits), "{what}");
+            assert_eq!(one.volume[0].to_bits(), c.volume[i].to_bits(), "{what}");
+            assert_eq!(one.position[0], c.position[i], "{what}");
+            let bits = |s: &[f64]| s.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&one.state), bits(&c.state[i * STRIDE..(i + 1) * STRIDE]), "{what}");
+        }
+        // Both materials present, von Mises yielding (its state moves).
+        let ones = c0.material_ids[first..].iter().filter(|&&id| id == 1).count();
+        assert!(ones > 20 && ones < n - 20 && yielded == ones, "{ones} von Mises particles, {yielded} yielded");
+    }
+
+    #[test]
+    fn batched_update_pass_is_the_particle_by_particle_update() {
+        for isa in [Isa::Baseline, Isa::detect()] {
+            for averaged in [false, true] {
+                batched_update_is_the_particle_by_particle_update::<PlaneStrain>(averaged, isa);
+                batched_update_is_the_particle_by_particle_update::<Axisymmetric>(averaged, isa);
+            }
+        }
+    }
+
+    /// The update pass reports the lowest-index failing particle of the chunk, by its global
+    /// index, wherever it lies in the chunk's batches (first, middle, last partial one).
+    #[test]
+    fn update_chunk_reports_its_lowest_failing_particle() {
+        let (first, n) = (UPDATE_CHUNK, 70);
+        let run = |c: &Chunk| run_chunk::<PlaneStrain>(&mut c.clone(), 1, 0, false, Isa::Baseline);
+        let c0 = chunk(first, n);
+        assert_eq!(run(&c0), None);
+        // Particle 40: NaN velocity; 45: displaced off the grid; 66: inverted F.
+        let mut c = c0.clone();
+        c.velocity[first + 40][1] = f64::NAN;
+        c.displacement[first + 45] = [2.0, 0.0];
+        c.f[66] = [-1.0, 0.0, 0.0, 1.0, 1.0];
+        assert_eq!(run(&c), Some(Failure::NotFinite { particle: first + 40 }));
+        c.velocity[first + 40] = c0.velocity[first + 40];
+        let x = [c0.position[45][0] + 2.0, c0.position[45][1] + 0.0];
+        assert_eq!(run(&c), Some(Failure::LeftGrid { particle: first + 45, position: x }));
+        c.displacement[first + 45] = c0.displacement[first + 45];
+        let got = run(&c);
+        let inverted_at = |got: Option<Failure>, p: usize| {
+            matches!(got, Some(Failure::InvertedJacobian { particle, jacobian }) if particle == p && jacobian < 0.0)
+        };
+        assert!(inverted_at(got.clone(), first + 66), "{got:?}");
+        // One more in the first batch comes first.
+        c.f[3] = [0.0, 1.0, 1.0, 0.0, 1.0];
+        let got = run(&c);
+        assert!(inverted_at(got.clone(), first + 3), "{got:?}");
+        // Only the last particle of the chunk.
+        let mut c = c0.clone();
+        c.velocity[first + n - 1][0] = f64::INFINITY;
+        assert_eq!(run(&c), Some(Failure::NotFinite { particle: first + n - 1 }));
+    }
+
     /// The cell mean J is Σ V / Σ V0 of the particles whose centre lies in the cell (the V0-
     /// weighted mean of their J), 0 in empty cells.
     #[test]
