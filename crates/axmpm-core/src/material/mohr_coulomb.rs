@@ -2500,4 +2500,31 @@ mod tests {
             assert_eq!(state[DISCONNECTION_WORK], 0.0, "from σ = 0 nothing is discarded");
         }
     }
+
+    /// A dilute particle (J > J_s) torn open from σ = 0 returns to the apex (c = 0): its whole
+    /// strain increment is plastic, Δε^p = C (σ_B − 0)/s with σ_B = s C⁻¹ Δε, i.e. Δε^p = Δε in
+    /// every principal direction (three distinct non-zero values here), with or without the limit.
+    #[test]
+    fn a_dilute_particle_torn_open_books_its_whole_strain_increment_as_plastic() {
+        let plain = mc(25.0, 0.0, 0.0, 0.0);
+        let mut limited = plain.clone();
+        limited.limit_wave_speed(2.0 * plain.wave_speed()); // J_s = 4
+        let dt = 1e-4;
+        // Stretching in all three directions (in-plane principal 2.6e-3 and 0.9e-3, out-of-plane
+        // 0.5e-3): the trial is tensile, beyond the apex.
+        let l = [2e-3 / dt, 0.8e-3 / dt, 0.8e-3 / dt, 1.5e-3 / dt, 0.5e-3 / dt];
+        let (d, _) = rate_of_deformation(&l);
+        let de = d.map(|x| x * dt);
+        let vol = de[0] + de[1] + de[2];
+        let dev = [de[0] - vol / 3.0, de[1] - vol / 3.0, de[2] - vol / 3.0];
+        let shear = (2.0 / 3.0 * (dev[0] * dev[0] + dev[1] * dev[1] + dev[2] * dev[2] + 2.0 * de[3] * de[3])).sqrt();
+        for (m, jacobian) in [(&plain, 40.0), (&limited, 40.0), (&limited, 5.0)] {
+            let mut s = [0.0; 4];
+            let mut state = [0.0; 3];
+            m.update_stress(&mut s, &mut state, &at_jacobian(l, dt, jacobian));
+            assert!(s.iter().all(|x| x.abs() < 1e-9), "J = {jacobian}: at the apex, {s:?}");
+            assert!((state[1] - vol).abs() <= 1e-9 * vol, "J = {jacobian}: plastic volume {} vs {vol}", state[1]);
+            assert!((state[0] - shear).abs() <= 1e-9 * shear, "J = {jacobian}: plastic shear {} vs {shear}", state[0]);
+        }
+    }
 }
