@@ -146,6 +146,31 @@ def collapse_scenario(
     n_below = max(0, int(cells_below_base))
     n_dz = n_z + 4 + n_below
     n_behind = n_below if formulation == "plane_strain" else 0
+    if gate_speed is None:
+        # The cylinder: a roller wall at r = R_i removed at release_time.
+        cylinder_walls = [{"axis": "x", "position": R_i, "material_side": "negative", "condition": "roller",
+                           "removal_time": release_time}]
+        rigid_bodies = []
+    else:
+        # The cylinder as a rigid tube r ∈ [R_i, R_i + t], z ∈ [0, H_i + 2h] that rises at
+        # gate_speed from release_time (constant speed: the lift's acceleration is not modelled).
+        if not (gate_speed > 0.0 and math.isfinite(gate_speed)):
+            raise ValueError(f"gate_speed: must be a finite speed > 0 m/s (got {gate_speed})")
+        n_t = int(gate_thickness)
+        if n_t < 1:
+            raise ValueError(f"gate_thickness: must be a whole number of cells >= 1 (got {gate_thickness})")
+        motion = [[0.0, 0.0, float(gate_speed)]] if release_time <= 0.0 else \
+            [[release_time, 0.0, 0.0], [release_time + 1e-6, 0.0, float(gate_speed)]]
+        cylinder_walls = []
+        rigid_bodies = [{
+            "name": "cylinder", "shape": "rectangle",
+            "min": [R_i, 0.0], "max": [R_i + n_t * h, H_i + 2 * h],
+            "motion": motion, "friction": mu if gate_friction is None else float(gate_friction),
+        }]
+        n_dr = max(n_dr, n_r + n_t + 2)
+        # Head-room: the tube's friction drags the sand next to it upwards (at a = 10 and
+        # 0.5 m/s a particle left a grid H_i + 4h tall at t = 0.027 s).
+        n_dz += math.ceil(0.5 * n_z)
     data: dict[str, Any] = {
         "simulation": {
             "formulation": formulation,
@@ -208,38 +233,10 @@ def collapse_scenario(
         ] if n_below else []) + ([
             # Plane strain: the back wall (symmetry plane), when the grid reaches behind it.
             {"axis": "x", "position": 0.0, "material_side": "positive", "condition": "roller"},
-        ] if n_behind else []) + [
-            {
-                "axis": "x",
-                "position": R_i,
-                "material_side": "negative",
-                "condition": "roller",
-                "removal_time": release_time,
-            }
-        ],
+        ] if n_behind else []) + cylinder_walls,
     }
-    if gate_speed is not None:
-        # The cylinder as a rigid tube r ∈ [R_i, R_i + t], z ∈ [0, H_i + 2h] that rises at
-        # gate_speed from release_time (constant speed: the lift's acceleration is not modelled),
-        # instead of the roller wall removed at once.
-        if not (gate_speed > 0.0 and math.isfinite(gate_speed)):
-            raise ValueError(f"gate_speed: must be a finite speed > 0 m/s (got {gate_speed})")
-        n_t = int(gate_thickness)
-        if n_t < 1:
-            raise ValueError(f"gate_thickness: must be a whole number of cells >= 1 (got {gate_thickness})")
-        mu_gate = mu if gate_friction is None else float(gate_friction)
-        data["walls"] = [w for w in data["walls"] if w.get("removal_time") is None]
-        motion = [[0.0, 0.0, float(gate_speed)]] if release_time <= 0.0 else \
-            [[release_time, 0.0, 0.0], [release_time + 1e-6, 0.0, float(gate_speed)]]
-        data["rigid_bodies"] = [{
-            "name": "cylinder", "shape": "rectangle",
-            "min": [R_i, 0.0], "max": [R_i + n_t * h, H_i + 2 * h],
-            "motion": motion, "friction": mu_gate,
-        }]
-        data["grid"]["extent"][0] = max(data["grid"]["extent"][0], (n_r + n_t + 2 + n_behind) * h)
-        # Head-room: the tube's friction drags the sand next to it upwards (at a = 10 and
-        # 0.5 m/s a particle left a grid H_i + 4h tall at t = 0.027 s).
-        data["grid"]["extent"][1] += math.ceil(0.5 * n_z) * h
+    if rigid_bodies:
+        data["rigid_bodies"] = rigid_bodies
     if as_dict:
         return data
     return Scenario.from_dict(data)
