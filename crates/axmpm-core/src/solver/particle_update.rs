@@ -7,7 +7,7 @@ use rayon::prelude::*;
 use super::{first_failure, Failure, Isa, Scratch, State};
 use crate::config::{UpdateScheme, VolumetricAveraging};
 use crate::formulation::Formulation;
-use crate::grid::GridGeometry;
+use crate::grid::{GridBounds, GridGeometry};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
 use crate::material::{Kinematics, Material};
 use crate::particles::{DeformationGradient, Particles, Stress};
@@ -186,26 +186,6 @@ fn check_particle<F: Formulation>(
     }
 }
 
-/// The grid's closed box, for the test that a particle is still inside it: the same
-/// comparisons as [`GridGeometry::contains`], with the upper corner computed once.
-#[derive(Clone, Copy)]
-struct GridBounds {
-    lower: [f64; 2],
-    upper: [f64; 2],
-}
-
-impl GridBounds {
-    fn of(grid: &GridGeometry) -> Self {
-        GridBounds { lower: grid.origin, upper: grid.upper() }
-    }
-
-    /// `&` instead of `&&`: four comparisons and no branches (the usual answer is true).
-    #[inline(always)]
-    fn contains(&self, x: [f64; 2]) -> bool {
-        (x[0] >= self.lower[0]) & (x[1] >= self.lower[1]) & (x[0] <= self.upper[0]) & (x[1] <= self.upper[1])
-    }
-}
-
 /// Where the velocity gradient of each particle comes from in the update pass.
 #[derive(Clone, Copy)]
 enum GradientSource<'a> {
@@ -341,7 +321,7 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
         velocity: &inputs.velocity[first..first + n],
         displacement: &inputs.displacement[first..first + n],
     };
-    let bounds = GridBounds::of(&inputs.grid);
+    let bounds = inputs.grid.bounds();
     let mut failure = None;
     // In batches: the kinematics of a batch, then the stress update of each run of particles
     // of one material in one call (the model's parameters stay in registers, and there is one
@@ -492,7 +472,7 @@ mod tests {
     fn check<F: Formulation>(grid: &GridGeometry, x: [f64; 2], s: Stress, v: [f64; 2], j: f64) -> Option<Failure> {
         let velocity = [[0.0, 0.0], v];
         let chunk = ChunkInputs { initial_volume: &[1.0; 2], velocity: &velocity, displacement: &[[0.0; 2]; 2] };
-        check_particle::<F>(&GridBounds::of(grid), &chunk, 7, 1, x, &s, j)
+        check_particle::<F>(&grid.bounds(), &chunk, 7, 1, x, &s, j)
     }
 
     /// The particle check, against its definition: any of position, stress and velocity not
@@ -550,13 +530,16 @@ mod tests {
         }
     }
 
-    /// `GridBounds::contains` is `GridGeometry::contains` (the closed box), on the edges, one
-    /// ulp either side of them, and on a lattice across and around the grid.
+    /// `GridBounds::contains` (which `GridGeometry::contains` calls) is the closed box
+    /// origin ≤ x ≤ upper, on the edges, one ulp either side of them, and on a lattice across
+    /// and around the grid.
     #[test]
     fn grid_bounds_contain_the_points_the_grid_contains() {
         let grid = GridGeometry::new([-0.3, 0.2], [1.2, 0.8], 0.1);
-        let bounds = GridBounds::of(&grid);
+        let bounds = grid.bounds();
         let u = grid.upper();
+        let o = grid.origin;
+        let closed_box = |p: [f64; 2]| p[0] >= o[0] && p[1] >= o[1] && p[0] <= u[0] && p[1] <= u[1];
         let near = |a: f64| [a.next_down(), a, a.next_up()];
         let mut xs: Vec<f64> = [grid.origin[0], u[0]].iter().flat_map(|&a| near(a)).collect();
         let mut ys: Vec<f64> = [grid.origin[1], u[1]].iter().flat_map(|&a| near(a)).collect();
@@ -565,7 +548,8 @@ mod tests {
         let (mut inside, mut outside) = (0, 0);
         for &x in &xs {
             for &y in &ys {
-                let want = grid.contains([x, y]);
+                let want = closed_box([x, y]);
+                assert_eq!(grid.contains([x, y]), want, "({x}, {y})");
                 assert_eq!(bounds.contains([x, y]), want, "({x}, {y})");
                 if want { inside += 1 } else { outside += 1 }
             }
