@@ -234,7 +234,10 @@ impl CellPoint {
         let cj = fast_floor(l[1]);
         // The cell index only decides which nodes exist; clamping it to [−2, nodes] keeps it in
         // i32 and drops the same nodes (both nodes of a cell outside that range are off-grid).
-        let clamp = |c: f64, n: usize| c.max(-2.0).min(n as f64) as i32;
+        // `max` maps a NaN to −2; the clamped value is then a whole number in [−2, 2³¹), so its
+        // truncation fits an i32 and needs no saturation handling.
+        // SAFETY: see above (grid node counts are below 2³¹).
+        let clamp = |c: f64, n: usize| unsafe { c.max(-2.0).min(n as f64).to_int_unchecked::<i32>() };
         Self { cell: [clamp(ci, grid.nodes[0]), clamp(cj, grid.nodes[1])], fraction: [l[0] - ci, l[1] - cj] }
     }
 
@@ -326,13 +329,20 @@ pub fn clamp_between(x: f64, lo: f64, hi: f64) -> f64 {
     }
 }
 
-/// `x.floor()` without the libm call: on the baseline x86-64 target `f64::floor` is a
-/// software routine (no SSE4.1 `roundsd`), several times slower than this truncate-and-fix.
-/// Exact for |x| < 2⁶³; NaN gives 0.
+/// `x.floor()` without the libm call (on the baseline x86-64 target `f64::floor` is a call,
+/// there is no SSE4.1 `roundsd`) and without float ↔ integer conversions: adding and
+/// subtracting 2⁵² (with the sign of x) rounds |x| < 2⁵² to the nearest whole number, and one
+/// is taken off where that rounded up. Larger |x| are whole numbers already and pass through.
+/// Exact for every finite x, except that −0 gives +0; NaN stays NaN. Seven vector-friendly
+/// operations (the compiler keeps them in SIMD registers) instead of the ten to fourteen of a
+/// saturating truncation and its fix-up.
 #[inline(always)]
 pub fn fast_floor(x: f64) -> f64 {
-    let t = x as i64;
-    (t - ((t as f64) > x) as i64) as f64
+    const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
+    let magic = TWO_POW_52.copysign(x);
+    let nearest = (x + magic) - magic;
+    let nearest = if x.abs() < TWO_POW_52 { nearest } else { x };
+    nearest - if nearest > x { 1.0 } else { 0.0 }
 }
 
 /// ⌊x⌋ clamped to [0, top] (a NaN gives 0), for a cell index: equals
@@ -399,8 +409,6 @@ mod tests {
     fn clamped_floor_equals_floor_then_clamp() {
         let reference = |x: f64, top: f64| fast_floor(x).max(0.0).min(top);
         let tops = [0.0, 1.0, 7.0, 499.0];
-        // (fast_floor is exact for |x| < 2⁶³ only: below −2⁶³ its fix-up wraps round; the new
-        // function gives 0 there, checked separately.)
         let mut xs = vec![-9.2e18, -3.5, -1.0, -1e-300, -0.0, 0.0, 1e-300, 0.5, 0.999999, 1.0, 1.5, 6.999999, 7.0,
                           7.000001, 498.5, 499.0, 499.5, 500.0, 1e18, 1e300, f64::INFINITY, f64::NAN];
         xs.extend((0..2000).map(|k| -3.0 + k as f64 * 0.2537));
@@ -413,6 +421,25 @@ mod tests {
             assert_eq!(clamped_floor(-1e300, top), 0);
             assert_eq!(clamped_floor(f64::NEG_INFINITY, top), 0);
         }
+    }
+
+    /// `fast_floor` is `f64::floor` bit for bit (but for −0, which gives +0), on both sides of
+    /// the 2⁵² threshold of its rounding trick, on halves (the ties of round-to-nearest-even),
+    /// just below whole numbers, at ±∞, and NaN stays NaN.
+    #[test]
+    fn fast_floor_equals_floor() {
+        let two52 = 4_503_599_627_370_496.0_f64;
+        let mut xs = vec![0.0, 1e-300, 0.5, 1.5, 2.5, -0.5, -1.5, -2.5, 0.49999999999999994, 1.0 - f64::EPSILON / 2.0,
+                          -1e-300, -(1.0 - f64::EPSILON / 2.0), two52 - 0.5, two52, two52 + 1.0, two52 + 2.0,
+                          2.0 * two52 + 2.0, -(two52 - 0.5), -two52, -(two52 + 1.0), 9.3e18, -9.3e18, 1e300, -1e300,
+                          f64::MAX, f64::MIN, f64::INFINITY, f64::NEG_INFINITY];
+        xs.extend((0..4000).map(|k| -1000.0 + k as f64 * 0.5003));
+        xs.extend((0..200).map(|k| (k as f64 - 100.0) * 0.25));
+        for x in xs {
+            assert_eq!(fast_floor(x).to_bits(), x.floor().to_bits(), "x = {x:e}");
+        }
+        assert_eq!(fast_floor(-0.0).to_bits(), 0.0_f64.to_bits());
+        assert!(fast_floor(f64::NAN).is_nan());
     }
 }
 

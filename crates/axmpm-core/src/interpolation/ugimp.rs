@@ -88,9 +88,14 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         let alpha = l - lam;
         let beta = l + lam;
         let k0f = fast_floor(alpha);
-        k0 = k0f as i64;
-        // β − α ≤ 2 cells, so at most 3 cells and 4 nodes.
-        let cells = ((fast_floor(beta) - k0f) as usize).min(2);
+        k0 = node_index(k0f, n);
+        // β − α ≤ 2 cells, so at most 3 cells and 4 nodes. Clamped to [0, 2] (a NaN to 0)
+        // before the conversion, which then needs no saturation handling.
+        let span = fast_floor(beta) - k0f;
+        let span = if span > 0.0 { span } else { 0.0 };
+        let span = if span < 2.0 { span } else { 2.0 };
+        // SAFETY: a whole number in [0, 2].
+        let cells = unsafe { span.to_int_unchecked::<u32>() } as usize;
         let inv = 1.0 / (beta - alpha);
         for c in 0..=cells {
             let k = k0f + c as f64;
@@ -118,7 +123,7 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         // Point particle: the linear hat on the two nodes of the cell (as `bilinear_nodes`).
         let c = fast_floor(l);
         let f = l - c;
-        k0 = c as i64;
+        k0 = node_index(c, n);
         w[0] = 1.0 - f;
         w[1] = f;
         d[0] = -ih;
@@ -149,6 +154,17 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         ax.derivative[k] = d[c];
         ax.len += 1;
     }
+}
+
+/// The whole number `k` as a node index of an axis of `n` nodes, clamped to [−8, n + 8] (a NaN
+/// to −8): a domain reaches at most 4 nodes from its first, so a first node beyond either bound
+/// has every node off the grid, as has the clamped one. Clamped first, the conversion needs no
+/// saturation handling (the `as` cast's extra compares and selects).
+#[inline(always)]
+fn node_index(k: f64, n: usize) -> i64 {
+    let k = k.max(-8.0).min(n as f64 + 8.0);
+    // SAFETY: k is a whole number in [−8, n + 8], n < 2⁶³.
+    unsafe { k.to_int_unchecked::<i64>() }
 }
 
 /// 1D GIMP weights of both directions for a particle at `x` with half-widths `half`
@@ -245,6 +261,24 @@ mod tests {
     use super::*;
     use crate::interpolation::testing::*;
     use crate::interpolation::{gimp_weight, Linear};
+
+    /// `node_index` is the truncation of a whole number within [−8, n + 8] and clamps beyond,
+    /// where a first node and the three after it are all off the grid either way.
+    #[test]
+    fn node_index_clamps_only_where_no_node_is_on_the_grid() {
+        let n = 11;
+        for k in -40..=60 {
+            let got = node_index(k as f64, n);
+            if (-8..=n as i64 + 8).contains(&k) {
+                assert_eq!(got, k);
+            } else {
+                let off_grid = |first: i64| (first..first + 4).all(|i| i < 0 || i >= n as i64);
+                assert!(off_grid(k) && off_grid(got), "k = {k}, clamped to {got}");
+            }
+        }
+        assert_eq!(node_index(f64::NAN, n), -8);
+        assert_eq!(node_index(f64::INFINITY, n), n as i64 + 8);
+    }
 
     /// The five-piece 1D formula of docs/physics.md §3 (physical units) and its derivative.
     fn piecewise(xi: f64, l: f64, h: f64) -> (f64, f64) {
