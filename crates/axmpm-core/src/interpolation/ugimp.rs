@@ -97,18 +97,20 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         // SAFETY: a whole number in [0, 2].
         let cells = unsafe { span.to_int_unchecked::<u32>() } as usize;
         let inv = 1.0 / (beta - alpha);
-        for c in 0..=cells {
+        // All three cells, without a loop of variable length (the compiler vectorises it): a
+        // cell beyond β's has q < p, and its length is taken as 0, so it adds exact zeros.
+        let (mut lower, mut upper) = ([0.0; 3], [0.0; 3]);
+        for c in 0..3 {
             let k = k0f + c as f64;
             let p = alpha.max(k) - k;
             let q = beta.min(k + 1.0) - k;
             let len = q - p;
+            let len = if len > 0.0 { len } else { 0.0 };
             let m = 0.5 * (p + q);
-            w[c] += len * (1.0 - m);
-            w[c + 1] += len * m;
+            lower[c] = len * (1.0 - m);
+            upper[c] = len * m;
         }
-        for v in w.iter_mut().take(cells + 2) {
-            *v *= inv;
-        }
+        w = [lower[0] * inv, (upper[0] + lower[1]) * inv, (upper[1] + lower[2]) * inv, upper[2] * inv];
         // Hats at the ends: N(β) on the nodes of β's cell, N(α) on those of α's cell.
         let fa = alpha - k0f;
         let cb = cells; // β lies in the last cell
