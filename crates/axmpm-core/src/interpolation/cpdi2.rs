@@ -119,12 +119,17 @@ impl ShapeFunction for Cpdi2 {
         // 0 < V < ∞ (false for NaN): the same test as `v > 0.0 && v.is_finite()`, in two compares.
         if v > 0.0 && v < f64::INFINITY {
             // r > 0 strictly: `at_least(r, 0)` then returns r itself (−0 could become +0).
-            let mut interior = !axisymmetric || corners.iter().all(|x| x[0] > 0.0);
+            let off_axis = !axisymmetric || corners.iter().all(|x| x[0] > 0.0);
             for (cell, x) in cache.cells.iter_mut().zip(c) {
-                let located = CellPoint::locate(grid, x);
-                interior &= located.all_nodes_inside(grid);
-                *cell = located.cell;
+                *cell = CellPoint::locate(grid, x).cell;
             }
+            // Every node of every corner cell is inside the grid exactly when the range of the
+            // cells is (`CellPoint::all_nodes_inside` of the lowest and highest cell indices).
+            let [c0, c1, c2, c3] = cache.cells;
+            let lowest = [c0[0].min(c1[0]).min(c2[0]).min(c3[0]), c0[1].min(c1[1]).min(c2[1]).min(c3[1])];
+            let highest = [c0[0].max(c1[0]).max(c2[0]).max(c3[0]), c0[1].max(c1[1]).max(c2[1]).max(c3[1])];
+            let inside = |cell: [i32; 2]| CellPoint { cell, fraction: [0.0; 2] }.all_nodes_inside(grid);
+            let interior = off_axis & inside(lowest) & inside(highest);
             cache.weight = w;
             cache.gradient_weight = [wg[0], wg[1]];
             cache.layout = if interior { CornerLayout::Interior } else { CornerLayout::Edge };
