@@ -186,6 +186,31 @@ fn check_particle<F: Formulation>(
     }
 }
 
+/// Whether [`check_particle`] finds every particle `batch` of the chunk valid (`kinematics`
+/// holds the batch's kinematics from its first entry on): the same tests, combined with `&`
+/// into one flag, so that the loop has no branch and the compiler vectorises it.
+#[inline(always)]
+fn batch_is_valid<F: Formulation>(
+    bounds: &GridBounds,
+    chunk: &ChunkInputs,
+    batch: std::ops::Range<usize>,
+    position: &[[f64; 2]],
+    stress: &[Stress],
+    kinematics: &[Kinematics],
+) -> bool {
+    let (position, stress, velocity) = (&position[batch.clone()], &stress[batch.clone()], &chunk.velocity[batch]);
+    let mut valid = true;
+    for (((x, s), v), kin) in position.iter().zip(stress).zip(velocity).zip(kinematics) {
+        // As `check_particle`: the products with 0 sum to zero exactly when all are finite.
+        let a = [x[0], x[1], s[0], s[1]].map(|c| c * 0.0);
+        let b = [s[2], s[3], v[0], v[1]].map(|c| c * 0.0);
+        let pairs = [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]];
+        let finite = (pairs[0] + pairs[2]) + (pairs[1] + pairs[3]) == 0.0;
+        valid &= finite & bounds.contains(*x) & (!F::AXISYMMETRIC | (x[0] > 0.0)) & (kin.jacobian > 0.0);
+    }
+    valid
+}
+
 /// Where the velocity gradient of each particle comes from in the update pass.
 #[derive(Clone, Copy)]
 enum GradientSource<'a> {
@@ -367,9 +392,11 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
             }
             run_start = run_end;
         }
-        // The lowest failing index of the chunk (chunks are then reduced the same way).
-        if failure.is_none() {
-            for (i, kin) in (start..end).zip(&kinematics) {
+        // The lowest failing index of the chunk (chunks are then reduced the same way): the
+        // whole batch in one branch-free pass, particle by particle only if it has a failure.
+        let batch = start..end;
+        if failure.is_none() && !batch_is_valid::<F>(&bounds, &chunk_inputs, batch.clone(), position, stress, &kinematics) {
+            for (i, kin) in batch.zip(&kinematics) {
                 let result = check_particle::<F>(&bounds, &chunk_inputs, first + i, i, position[i], &stress[i], kin.jacobian);
                 if result.is_some() {
                     failure = result;
