@@ -687,6 +687,23 @@ impl MohrCoulomb {
         }
     }
 
+    /// Elastic trial stress σ + C : Δε + the Jaumann rotation `rot`, and the factor s on the
+    /// moduli (dilute material: moduli s C, module doc "Dilute material and the time step").
+    #[inline(always)]
+    fn trial_stress(&self, stress: &Stress, de: &[f64; 4], rot: &Stress, jacobian: f64) -> (Stress, f64) {
+        let scale = self.stiffness_scale(jacobian);
+        let inc = if scale < 1.0 {
+            self.elastic.elastic_increment(&[de[0] * scale, de[1] * scale, de[2] * scale, de[3] * scale])
+        } else {
+            self.elastic.elastic_increment(de)
+        };
+        let mut tr = *stress;
+        for c in 0..4 {
+            tr[c] += inc[c] + rot[c];
+        }
+        (tr, scale)
+    }
+
     /// Fast elastic test (most particles, most steps): the test of [`Self::return_trial`] but
     /// with the in-plane radius from `sqrt` instead of `hypot` (a libm call) and a margin
     /// 1e-9 (1 + k)·scale, far larger than the few ulps by which the two evaluations of f and
@@ -918,17 +935,7 @@ impl Material for MohrCoulomb {
             }
         }
         let rot = jaumann_rotation(stress, spin, k.dt);
-        // Dilute material: moduli s C⁻¹ (module doc, "Dilute material and the time step").
-        let scale = self.stiffness_scale(k.jacobian);
-        let inc = if scale < 1.0 {
-            self.elastic.elastic_increment(&[de[0] * scale, de[1] * scale, de[2] * scale, de[3] * scale])
-        } else {
-            self.elastic.elastic_increment(&de)
-        };
-        let mut tr = *stress;
-        for c in 0..4 {
-            tr[c] += inc[c] + rot[c];
-        }
+        let (tr, scale) = self.trial_stress(stress, &de, &rot, k.jacobian);
         if disconnected {
             let mut start = *stress;
             for c in 0..4 {
@@ -943,6 +950,50 @@ impl Material for MohrCoulomb {
             return;
         }
         self.return_trial(stress, state, tr, separated, k.jacobian, scale);
+    }
+
+    /// The plain model (no `recompaction`, no disconnected state) in two passes over the run:
+    /// first every particle's elastic trial and the fast elastic test ([`Self::clearly_elastic`]),
+    /// in one branch-free loop that the compiler vectorises across particles; then the
+    /// particles that are not clearly elastic are returned ([`Self::return_trial`]). Each
+    /// particle's operations are those of [`Material::update_stress`], in the same order (same
+    /// result bit for bit); the other variants, and runs longer than a batch, take that path.
+    #[inline(always)]
+    fn update_stress_batch(
+        &self,
+        stress: &mut [Stress],
+        state: &mut [f64],
+        stride: usize,
+        state_length: usize,
+        kinematics: &[Kinematics],
+    ) {
+        const BATCH: usize = 32;
+        let n = stress.len();
+        if self.recompaction || self.critical_jacobian.is_some() || n > BATCH || kinematics.len() != n {
+            for ((s, kin), slots) in stress.iter_mut().zip(kinematics).zip(state.chunks_exact_mut(stride)) {
+                self.update_stress(s, &mut slots[..state_length], kin);
+            }
+            return;
+        }
+        let mut trial = [[0.0; 4]; BATCH];
+        let mut elastic = [false; BATCH];
+        for ((s, k), (tr, clear)) in stress.iter().zip(kinematics).zip(trial.iter_mut().zip(elastic.iter_mut())) {
+            let (d, spin) = rate_of_deformation(&k.velocity_gradient);
+            let de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
+            let rot = jaumann_rotation(s, spin, k.dt);
+            *tr = self.trial_stress(s, &de, &rot, k.jacobian).0;
+            *clear = self.clearly_elastic(tr);
+        }
+        for (((s, k), slots), (tr, clear)) in
+            stress.iter_mut().zip(kinematics).zip(state.chunks_exact_mut(stride)).zip(trial.iter().zip(&elastic))
+        {
+            if *clear {
+                *s = *tr;
+            } else {
+                let scale = self.stiffness_scale(k.jacobian);
+                self.return_trial(s, &mut slots[..state_length], *tr, false, k.jacobian, scale);
+            }
+        }
     }
 
     fn needs_cell_jacobian(&self) -> bool {
@@ -2525,6 +2576,74 @@ mod tests {
             assert!(s.iter().all(|x| x.abs() < 1e-9), "J = {jacobian}: at the apex, {s:?}");
             assert!((state[1] - vol).abs() <= 1e-9 * vol, "J = {jacobian}: plastic volume {} vs {vol}", state[1]);
             assert!((state[0] - shear).abs() <= 1e-9 * shear, "J = {jacobian}: plastic shear {} vs {shear}", state[0]);
+        }
+    }
+
+    /// The batched update (vectorised trial and elastic test for the plain model) equals the
+    /// particle-by-particle `update_stress`, bit for bit in stress and state, for runs that mix
+    /// elastic, plastic and dilute (J above the stable Jacobian) particles; also for the
+    /// variants and run lengths that take the particle-by-particle path, and compiled for AVX2.
+    #[test]
+    fn batched_update_equals_particle_by_particle() {
+        let variants = [
+            mc(30.0, 5.0, 0.0, 0.0).with_stable_jacobian(3.0),
+            mc(25.0, 0.0, 2e3, 1e3).with_stable_jacobian(3.0),
+            mc(30.0, 0.0, 0.0, 0.0).with_recompaction(true),
+            mc(30.0, 0.0, 0.0, 0.0).with_disconnection(Some(1.2)),
+        ];
+        let mut rng = Lcg(7);
+        for (v, m) in variants.iter().enumerate() {
+            let length = m.state_names().len();
+            for n in [1, 17, 32, 40] {
+                let stress: Vec<Stress> = (0..n)
+                    .map(|_| {
+                        let p = rng.uniform(-2e4, -1e3);
+                        [p + rng.uniform(-8e3, 8e3), p + rng.uniform(-8e3, 8e3), p + rng.uniform(-3e3, 3e3), rng.uniform(-6e3, 6e3)]
+                    })
+                    .collect();
+                let kin: Vec<Kinematics> = (0..n)
+                    .map(|_| {
+                        let l = [0; 5].map(|_| rng.uniform(-2.0, 2.0));
+                        let mut k = kin(l, 1e-4);
+                        k.jacobian = if rng.next() < 0.2 { rng.uniform(3.0, 30.0) } else { rng.uniform(0.9, 1.3) };
+                        k.cell_jacobian = k.jacobian;
+                        k
+                    })
+                    .collect();
+                let state: Vec<f64> = (0..n * length).map(|_| rng.uniform(0.0, 1e-3)).collect();
+                let (mut s_one, mut st_one) = (stress.clone(), state.clone());
+                for i in 0..n {
+                    m.update_stress(&mut s_one[i], &mut st_one[i * length..(i + 1) * length], &kin[i]);
+                }
+                let plastic = (0..n).filter(|&i| {
+                    let (mut s, mut st) = (stress[i], state[i * length..(i + 1) * length].to_vec());
+                    m.update_stress(&mut s, &mut st, &kin[i]);
+                    let (d, spin) = rate_of_deformation(&kin[i].velocity_gradient);
+                    let de = d.map(|x| x * kin[i].dt);
+                    s != m.trial_stress(&stress[i], &de, &jaumann_rotation(&stress[i], spin, kin[i].dt), kin[i].jacobian).0
+                });
+                let plastic = plastic.count();
+                // (The count is only meaningful for the plain variants, whose trial is that one.)
+                if n >= 17 && v < 2 {
+                    assert!(plastic > 0 && plastic < n, "variant {v}, n = {n}: {plastic} plastic particles, want a mix");
+                }
+                let (mut s, mut st) = (stress.clone(), state.clone());
+                m.update_stress_batch(&mut s, &mut st, length, length, &kin);
+                let mut batched = vec![(s, st)];
+                #[cfg(target_arch = "x86_64")]
+                if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") && is_x86_feature_detected!("bmi2") {
+                    let (mut s, mut st) = (stress.clone(), state.clone());
+                    // SAFETY: the CPU has AVX2, FMA and BMI2 (checked above).
+                    unsafe { m.update_stress_batch_avx2(&mut s, &mut st, length, length, &kin) };
+                    batched.push((s, st));
+                }
+                for (s, st) in &batched {
+                    for i in 0..n {
+                        assert_eq!(s[i].map(f64::to_bits), s_one[i].map(f64::to_bits), "variant {v}, n = {n}, particle {i}");
+                    }
+                    assert_eq!(st.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), st_one.iter().map(|x| x.to_bits()).collect::<Vec<_>>());
+                }
+            }
         }
     }
 }
