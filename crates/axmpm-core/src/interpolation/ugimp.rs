@@ -132,11 +132,14 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         d[1] = ih;
         count = 2;
     }
-    // The usual case: every node on the grid and no zero weight at the ends, so all `count`
-    // nodes are kept as they are (what the loop below would do, without its tests).
-    if k0 >= 0 && k0 + count as i64 <= n as i64 && w[0] > 0.0 && w[count - 1] > 0.0 {
+    // The usual case: every node on the grid and no zero weight at the first node, so the
+    // nodes are kept as they are, but for the last one where its weight is zero (a domain
+    // ending on a grid line, as every particle placed 2 per cell does): what the loop below
+    // would do, without its tests.
+    if k0 >= 0 && k0 + count as i64 <= n as i64 && !(w[0] <= 0.0 && lam > 0.0) {
+        let drop_last = w[count - 1] <= 0.0 && lam > 0.0;
         ax.first = k0 as u32;
-        ax.len = count as u8;
+        ax.len = (count - drop_last as usize) as u8;
         ax.weight = w;
         ax.derivative = d;
         return;
