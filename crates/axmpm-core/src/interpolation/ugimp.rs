@@ -77,9 +77,8 @@ pub type GimpCache = [Axis1d; 2];
 /// cells of the two domain ends.
 #[inline(always)]
 fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
-    // Written in place; entries at and beyond `ax.len` are never read.
-    ax.first = 0;
-    ax.len = 0;
+    // Written in place (`first` and `len` once, on the path taken); entries at and beyond
+    // `ax.len` are never read.
     let mut w = [0.0; 4];
     let mut d = [0.0; 4];
     let k0: i64;
@@ -144,6 +143,8 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         ax.derivative = d;
         return;
     }
+    ax.first = 0;
+    ax.len = 0;
     for c in 0..count {
         let i = k0 + c as i64;
         if i < 0 || i >= n as i64 || (w[c] <= 0.0 && lam > 0.0) {
