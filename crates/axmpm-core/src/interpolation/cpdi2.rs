@@ -88,6 +88,30 @@ enum CornerLayout {
     Edge,
 }
 
+/// The 16 entries w_c N_i(x_c), w̃_c N_i(x_c) of the corners `corners` (as the stencil
+/// evaluates them), corner by corner; `INTERIOR`: every node of every corner cell is inside
+/// the grid ([`CornerLayout::Interior`]), so no node is tested.
+#[inline(always)]
+fn corner_entries<const INTERIOR: bool>(
+    grid: &GridGeometry,
+    cache: &Cpdi2Cache,
+    corners: &[[f64; 2]; 4],
+    mut visit: impl FnMut(usize, f64, [f64; 2]),
+) {
+    let [g1, g2] = cache.gradient_weight;
+    let gradient_weight = [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]];
+    for k in 0..4 {
+        let (wk, gk) = (cache.weight[k], gradient_weight[k]);
+        let point = CellPoint::in_cell(grid, corners[k], cache.cells[k]);
+        let corner_entry = |node, n: f64, _| visit(node, wk * n, [gk[0] * n, gk[1] * n]);
+        if INTERIOR {
+            point.visit_interior_nodes(grid, corner_entry);
+        } else {
+            point.visit_nodes(grid, corner_entry);
+        }
+    }
+}
+
 /// The corners a stencil is evaluated at: the particle's corners, clamped to r ≥ 0 in
 /// axisymmetry.
 #[inline(always)]
@@ -142,24 +166,13 @@ impl ShapeFunction for Cpdi2 {
         cache: &Cpdi2Cache,
         domain: &ParticleDomain,
         axisymmetric: bool,
-        mut visit: impl FnMut(usize, f64, [f64; 2]),
+        visit: impl FnMut(usize, f64, [f64; 2]),
     ) {
-        let corners = match (cache.layout, domain.corners) {
-            (CornerLayout::LinearFallback, _) | (_, None) => return bilinear_nodes(grid, domain.position, visit),
-            (CornerLayout::Interior, Some(corners)) => *corners,
-            (_, Some(corners)) => stencil_corners(corners, axisymmetric),
-        };
-        let [g1, g2] = cache.gradient_weight;
-        let gradient_weight = [g1, g2, [-g1[0], -g1[1]], [-g2[0], -g2[1]]];
-        for k in 0..4 {
-            let (wk, gk) = (cache.weight[k], gradient_weight[k]);
-            let point = CellPoint::in_cell(grid, corners[k], cache.cells[k]);
-            let corner_entry = |node, n: f64, _| visit(node, wk * n, [gk[0] * n, gk[1] * n]);
-            if cache.layout == CornerLayout::Interior {
-                point.visit_interior_nodes(grid, corner_entry);
-            } else {
-                point.visit_nodes(grid, corner_entry);
-            }
+        match (cache.layout, domain.corners) {
+            (CornerLayout::LinearFallback, _) | (_, None) => bilinear_nodes(grid, domain.position, visit),
+            // The corners as they are, by reference (the usual case).
+            (CornerLayout::Interior, Some(corners)) => corner_entries::<true>(grid, cache, corners, visit),
+            (_, Some(corners)) => corner_entries::<false>(grid, cache, &stencil_corners(corners, axisymmetric), visit),
         }
     }
 
