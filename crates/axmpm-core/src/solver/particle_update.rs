@@ -277,10 +277,13 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         GradientSource::Stencil
     };
     // One chunk of particles per work item, compiled for the instruction set in use.
-    let update_chunk = |k: usize, chunk: ChunkArrays<S>| {
+    // The batch's kinematics live in a buffer made once per rayon job (`map_init`), not once
+    // per chunk: every batch writes its entries before reading them.
+    let batch_buffer = || [Kinematics::ZERO; STRESS_BATCH];
+    let update_chunk = |kinematics: &mut [Kinematics; STRESS_BATCH], k: usize, chunk: ChunkArrays<S>| {
         inputs.isa.run(
             #[inline(always)]
-            || update_chunk::<F, S>(&inputs, source, stride, k, chunk),
+            || update_chunk::<F, S>(&inputs, source, stride, k, chunk, kinematics),
         )
     };
     let chunks = particles
@@ -295,15 +298,15 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         chunks
             .zip(particles.corners.par_chunks_mut(UPDATE_CHUNK))
             .enumerate()
-            .map(|(k, ((((((f, stress), volume), position), state), cache), corners))| {
-                update_chunk(k, ChunkArrays { f, stress, volume, position, state, cache, corners: Some(corners) })
+            .map_init(batch_buffer, |kinematics, (k, ((((((f, stress), volume), position), state), cache), corners))| {
+                update_chunk(kinematics, k, ChunkArrays { f, stress, volume, position, state, cache, corners: Some(corners) })
             })
             .reduce(|| None, first_failure)
     } else {
         chunks
             .enumerate()
-            .map(|(k, (((((f, stress), volume), position), state), cache))| {
-                update_chunk(k, ChunkArrays { f, stress, volume, position, state, cache, corners: None })
+            .map_init(batch_buffer, |kinematics, (k, (((((f, stress), volume), position), state), cache))| {
+                update_chunk(kinematics, k, ChunkArrays { f, stress, volume, position, state, cache, corners: None })
             })
             .reduce(|| None, first_failure)
     };
@@ -332,6 +335,7 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
     stride: usize,
     k: usize,
     chunk: ChunkArrays<S>,
+    kinematics: &mut [Kinematics; STRESS_BATCH],
 ) -> Option<Failure> {
     // A local copy, kept in registers across the particle's stores (see P2G).
     let inputs = *inputs;
@@ -351,7 +355,6 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
     // In batches: the kinematics of a batch, then the stress update of each run of particles
     // of one material in one call (the model's parameters stay in registers, and there is one
     // dynamic dispatch per run instead of per particle), then the checks.
-    let mut kinematics = [Kinematics::ZERO; STRESS_BATCH];
     for start in (0..n).step_by(STRESS_BATCH) {
         let end = (start + STRESS_BATCH).min(n);
         for (i, kin) in (start..end).zip(kinematics.iter_mut()) {
@@ -395,8 +398,8 @@ fn update_chunk<F: Formulation, S: ShapeFunction>(
         // The lowest failing index of the chunk (chunks are then reduced the same way): the
         // whole batch in one branch-free pass, particle by particle only if it has a failure.
         let batch = start..end;
-        if failure.is_none() && !batch_is_valid::<F>(&bounds, &chunk_inputs, batch.clone(), position, stress, &kinematics) {
-            for (i, kin) in batch.zip(&kinematics) {
+        if failure.is_none() && !batch_is_valid::<F>(&bounds, &chunk_inputs, batch.clone(), position, stress, &kinematics[..]) {
+            for (i, kin) in batch.zip(kinematics.iter()) {
                 let result = check_particle::<F>(&bounds, &chunk_inputs, first + i, i, position[i], &stress[i], kin.jacobian);
                 if result.is_some() {
                     failure = result;
@@ -705,7 +708,7 @@ mod tests {
             cache: &cache,
             corners: None,
         };
-        update_chunk::<F, Linear>(&inputs, source, STRIDE, k, arrays)
+        update_chunk::<F, Linear>(&inputs, source, STRIDE, k, arrays, &mut [Kinematics::ZERO; STRESS_BATCH])
     }
 
     /// The velocity gradient particle `p` at `x` should get: A (and v_r / r in axisymmetry)
