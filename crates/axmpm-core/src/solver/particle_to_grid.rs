@@ -113,10 +113,10 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         if !overflow {
             S::prepare(&grid, &domain, F::AXISYMMETRIC, c);
         }
-        // A local copy: no nodal store can alias it, so the compiler keeps the stencil's
-        // values in registers instead of reloading them after every store.
-        let c = *c;
-        let node_box = S::node_box(&grid, &c, &domain);
+        // Read-only from here (a shared reborrow measured 4 instructions per particle-step
+        // fewer for cpGIMP than the mutable one).
+        let c = &*c;
+        let node_box = S::node_box(&grid, c, &domain);
         let in_zone = inside(node_box, zone);
         if !overflow {
             reach.reached = reach.reached.union(node_box);
@@ -137,7 +137,7 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         // `move`: the closure holds its own copies of the pointers and values, which the
         // compiler keeps in registers (captured by reference, it reloads them after every
         // store through the pointers, which it cannot prove do not alias them).
-        S::visit_entries(&grid, &c, &domain, F::AXISYMMETRIC, move |node, w, g| {
+        S::visit_entries(&grid, c, &domain, F::AXISYMMETRIC, move |node, w, g| {
             *targets.mass.at(node) += w * m;
             let p = targets.momentum.at(node);
             p[0] += w * momentum[0];
