@@ -1,23 +1,31 @@
 //! The `axmpm bench` scenario (Mohr–Coulomb column collapse, 200,000 particles at 0.5 mm
 //! cells) without Python, for profiling and bit-for-bit comparisons:
 //!
-//! `cargo run --release --example bench_step -- SCHEME FORMULATION THREADS STEPS [WARMUP] [CELL]`
+//! `cargo run --release --example bench_step -- SCHEME FORMULATION THREADS STEPS [WARMUP] [CELL] [MATERIAL]`
+//!
+//! MATERIAL: `mohr_coulomb` (default) or `linear_elastic` (the column of `axmpm bench
+//! --material linear_elastic` and of `benches/peer_taichi.py`: E = 1 MPa, ν = 0.3).
 //!
 //! Prints the throughput, a hash of every particle array after the run (equal hashes =
 //! bit-for-bit equal results) and the serial fraction: the share of the timed wall time spent in
 //! the parts of the step that run on one thread (`PhaseTimings::serial`).
 use axmpm_core::Simulation;
 
-fn scenario(formulation: &str, scheme: &str, cell: f64) -> String {
+fn scenario(formulation: &str, scheme: &str, cell: f64, material: &str) -> String {
+    let sand = match material {
+        "mohr_coulomb" => r#"{"model": "mohr_coulomb", "density": 1550.0, "youngs_modulus": 1.0e6,
+    "poisson_ratio": 0.3, "friction_angle": 25.0, "dilation_angle": 0.0, "cohesion": 0.0,
+    "tension_cutoff": 0.0}"#,
+        "linear_elastic" => r#"{"model": "linear_elastic", "density": 1550.0, "youngs_modulus": 1.0e6, "poisson_ratio": 0.3}"#,
+        other => panic!("MATERIAL must be mohr_coulomb or linear_elastic (got {other})"),
+    };
     format!(
         r#"{{
   "simulation": {{"formulation": "{formulation}", "shape_function": "{scheme}", "end_time": 1.0,
     "output_interval": 1.0, "gravity": [0.0, -9.81], "gravity_ramp_time": 0.0, "time_step": 0.0,
     "cfl": 0.4, "update_scheme": "musl", "flip_fraction": 0.99, "damping": 0.0}},
   "grid": {{"origin": [0.0, 0.0], "extent": [0.4, 0.15], "cell_size": {cell}}},
-  "materials": {{"sand": {{"model": "mohr_coulomb", "density": 1550.0, "youngs_modulus": 1.0e6,
-    "poisson_ratio": 0.3, "friction_angle": 25.0, "dilation_angle": 0.0, "cohesion": 0.0,
-    "tension_cutoff": 0.0}}}},
+  "materials": {{"sand": {sand}}},
   "bodies": [{{"material": "sand", "shape": "rectangle", "min": [0.0, 0.0], "max": [0.1, 0.125],
     "particles_per_cell": 2, "velocity": [0.0, 0.0], "initial_stress": "geostatic"}}],
   "boundaries": {{"left": {{"condition": "roller", "coefficient": 0.0}},
@@ -47,7 +55,8 @@ fn main() {
     let steps: u64 = args.get(4).map(|s| s.parse().unwrap()).unwrap_or(20);
     let warmup: u64 = args.get(5).map(|s| s.parse().unwrap()).unwrap_or(2);
     let cell: f64 = args.get(6).map(|s| s.parse().unwrap()).unwrap_or(0.0005);
-    let mut sim = Simulation::from_json(&scenario(formulation, scheme, cell), threads).unwrap();
+    let material = args.get(7).map(String::as_str).unwrap_or("mohr_coulomb");
+    let mut sim = Simulation::from_json(&scenario(formulation, scheme, cell, material), threads).unwrap();
     sim.advance(1e9, warmup).unwrap();
     let serial_before = sim.timings().serial;
     let t = std::time::Instant::now();
