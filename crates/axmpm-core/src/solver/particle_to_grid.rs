@@ -133,7 +133,9 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         let s = stress[i];
         let momentum = [m * v[0], m * v[1]];
         let minus_vs = [-vol * s[0], -vol * s[1], -vol * s[3]];
-        let body = [m * gravity[0] - vol * s[2] * F::hoop_factor(position[i]), m * gravity[1]];
+        // (No hoop term in plane strain, where it would be −V σ_θθ · 0.)
+        let hoop = if F::AXISYMMETRIC { vol * s[2] * F::hoop_factor(position[i]) } else { 0.0 };
+        let body = [m * gravity[0] - hoop, m * gravity[1]];
         // `move`: the closure holds its own copies of the pointers and values, which the
         // compiler keeps in registers (captured by reference, it reloads them after every
         // store through the pointers, which it cannot prove do not alias them).

@@ -78,7 +78,8 @@ fn velocity_gradient<F: Formulation, S: ShapeFunction>(
         l[3] += v[1] * dw[1];
         vr += v[0] * w;
     });
-    l[4] = vr * F::hoop_factor(domain.position);
+    // Plane strain has no hoop rate: L33 = +0 without the sum (which the compiler then drops).
+    l[4] = if F::AXISYMMETRIC { vr * F::hoop_factor(domain.position) } else { 0.0 };
     l
 }
 
