@@ -101,8 +101,10 @@ fn axis_weights(l: f64, lam: f64, n: usize, ih: f64, ax: &mut Axis1d) {
         let (mut lower, mut upper) = ([0.0; 3], [0.0; 3]);
         for c in 0..3 {
             let k = k0f + c as f64;
-            let p = alpha.max(k) - k;
-            let q = beta.min(k + 1.0) - k;
+            // max(α, k) and min(β, k + 1) as selects (α and β are never −0, and a NaN gives
+            // the bound, as `f64::max`/`min` do, without their NaN handling).
+            let p = (if alpha > k { alpha } else { k }) - k;
+            let q = (if beta < k + 1.0 { beta } else { k + 1.0 }) - k;
             let len = q - p;
             let len = if len > 0.0 { len } else { 0.0 };
             let m = 0.5 * (p + q);
