@@ -967,6 +967,8 @@ impl Material for MohrCoulomb {
         state_length: usize,
         kinematics: &[Kinematics],
     ) {
+        // The solver's update pass hands runs of at most its batch of 32 particles
+        // (`solver::particle_update`); the trial stresses of a run stay on the stack.
         const BATCH: usize = 32;
         let n = stress.len();
         if self.recompaction || self.critical_jacobian.is_some() || n > BATCH || kinematics.len() != n {
