@@ -100,9 +100,7 @@ pub trait Material: Send + Sync {
         state_length: usize,
         kinematics: &[Kinematics],
     ) {
-        for ((s, kin), slots) in stress.iter_mut().zip(kinematics).zip(state.chunks_exact_mut(stride)) {
-            self.update_stress(s, &mut slots[..state_length], kin);
-        }
+        update_each(self, stress, state, stride, state_length, kinematics)
     }
 
     /// [`Material::update_stress_batch`] compiled with AVX2 (see `solver::isa`): the same
@@ -126,6 +124,23 @@ pub trait Material: Send + Sync {
     /// ν ([`complementary_energy`]); 0 for a model without them.
     fn elastic_energy_density(&self, _stress: &Stress) -> f64 {
         0.0
+    }
+}
+
+/// [`Material::update_stress`] particle by particle over a run (the default of
+/// [`Material::update_stress_batch`], and the path of a model's variants that its own batch
+/// update does not cover).
+#[inline(always)]
+pub fn update_each<M: Material + ?Sized>(
+    material: &M,
+    stress: &mut [Stress],
+    state: &mut [f64],
+    stride: usize,
+    state_length: usize,
+    kinematics: &[Kinematics],
+) {
+    for ((s, kin), slots) in stress.iter_mut().zip(kinematics).zip(state.chunks_exact_mut(stride)) {
+        material.update_stress(s, &mut slots[..state_length], kin);
     }
 }
 

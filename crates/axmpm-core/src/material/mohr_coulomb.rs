@@ -972,10 +972,7 @@ impl Material for MohrCoulomb {
         const BATCH: usize = 32;
         let n = stress.len();
         if self.recompaction || self.critical_jacobian.is_some() || n > BATCH || kinematics.len() != n {
-            for ((s, kin), slots) in stress.iter_mut().zip(kinematics).zip(state.chunks_exact_mut(stride)) {
-                self.update_stress(s, &mut slots[..state_length], kin);
-            }
-            return;
+            return super::update_each(self, stress, state, stride, state_length, kinematics);
         }
         let mut trial = [[0.0; 4]; BATCH];
         let mut elastic = [false; BATCH];
