@@ -500,10 +500,51 @@ mod tests {
     }
 
     /// Grid x ∈ [0, 2], y ∈ [−1, 1]; a valid particle state (index 1 of the chunk inputs).
+    /// `check_particle` of one particle (index 1 of its chunk, 7 overall), after checking that
+    /// the batch test agrees with it: a batch of that particle alone is valid exactly when the
+    /// particle is.
     fn check<F: Formulation>(grid: &GridGeometry, x: [f64; 2], s: Stress, v: [f64; 2], j: f64) -> Option<Failure> {
         let velocity = [[0.0, 0.0], v];
         let chunk = ChunkInputs { initial_volume: &[1.0; 2], velocity: &velocity, displacement: &[[0.0; 2]; 2] };
-        check_particle::<F>(&grid.bounds(), &chunk, 7, 1, x, &s, j)
+        let result = check_particle::<F>(&grid.bounds(), &chunk, 7, 1, x, &s, j);
+        let kinematics = [Kinematics { jacobian: j, ..Kinematics::ZERO }];
+        let alone = batch_is_valid::<F>(&grid.bounds(), &chunk, 1..2, &[[0.0; 2], x], &[[0.0; 4], s], &kinematics);
+        assert_eq!(alone, result.is_none(), "batch test vs check_particle at x = {x:?}, s = {s:?}, v = {v:?}, J = {j}");
+        result
+    }
+
+    /// The batch test over several particles: valid when all are, invalid when any one is
+    /// (first, middle or last), whatever the others.
+    #[test]
+    fn a_batch_is_valid_exactly_when_every_particle_is() {
+        let grid = GridGeometry::new([0.0, -1.0], [2.0, 2.0], 0.5);
+        let n = 5;
+        let position = vec![[1.0, 0.3]; n];
+        let stress = vec![[1e5, -2e5, 3e4, -1e4]; n];
+        let velocity = vec![[1.0, -2.0]; n];
+        let kinematics = vec![Kinematics { jacobian: 0.9, ..Kinematics::ZERO }; n];
+        let volume = vec![1.0; n];
+        let displacement = vec![[0.0; 2]; n];
+        let chunk = ChunkInputs { initial_volume: &volume, velocity: &velocity, displacement: &displacement };
+        let valid = |p: &[[f64; 2]], s: &[Stress], k: &[Kinematics]| {
+            (batch_is_valid::<Axisymmetric>(&grid.bounds(), &chunk, 0..n, p, s, k),
+             batch_is_valid::<PlaneStrain>(&grid.bounds(), &chunk, 0..n, p, s, k))
+        };
+        assert_eq!(valid(&position, &stress, &kinematics), (true, true));
+        for bad in [0, 2, n - 1] {
+            let mut p = position.clone();
+            p[bad] = [3.0, 0.3];
+            assert_eq!(valid(&p, &stress, &kinematics), (false, false), "off the grid at {bad}");
+            let mut s = stress.clone();
+            s[bad][3] = f64::NAN;
+            assert_eq!(valid(&position, &s, &kinematics), (false, false), "NaN stress at {bad}");
+            let mut k = kinematics.clone();
+            k[bad].jacobian = -1.0;
+            assert_eq!(valid(&position, &stress, &k), (false, false), "inverted at {bad}");
+            let mut p = position.clone();
+            p[bad] = [0.0, 0.3];
+            assert_eq!(valid(&p, &stress, &kinematics), (false, true), "on the axis at {bad}");
+        }
     }
 
     /// The particle check, against its definition: any of position, stress and velocity not
