@@ -613,6 +613,75 @@ mod tests {
         assert_eq!(c, [[0.0, 0.5], [1.0, 0.5], [0.5, 1.0], [0.5, 0.0]]);
     }
 
+    /// The layout `prepare` derives from the range of the corner cells is its per-corner
+    /// definition: Interior exactly when every node of the cell of every corner (located where
+    /// the stencil evaluates it) is inside the grid and, in axisymmetry, every corner lies
+    /// strictly off the axis (r > 0; a corner on the axis is clamped, not used as it is); Edge
+    /// otherwise; the linear fallback for a degenerate domain. Interior skips every node test,
+    /// so calling an edge domain interior would read nodes off the grid, and the converse would
+    /// only cost time. Random quads over and around the grid, by the edges and the axis, and
+    /// rectangles with corners exactly on the axis, on a grid line and on the grid's edge.
+    #[test]
+    fn interior_layout_is_every_corner_cell_inside_the_grid_and_off_the_axis() {
+        let g = grid();
+        let layout = |c: [[f64; 2]; 4], axisymmetric: bool| {
+            let (f, mut cache) = ([1.0, 0.0, 0.0, 1.0, 1.0], Cpdi2Cache::default());
+            let domain = ParticleDomain { position: c[0], initial_half_width: [0.01; 2], deformation_gradient: &f, corners: Some(&c) };
+            Cpdi2::prepare(&g, &domain, axisymmetric, &mut cache);
+            cache.layout
+        };
+        let definition = |c: [[f64; 2]; 4], axisymmetric: bool| {
+            let evaluated = stencil_corners(&c, axisymmetric);
+            let area = shoelace(&evaluated);
+            let off_axis = !axisymmetric || c.iter().all(|x| x[0] > 0.0);
+            let cells_inside = evaluated.iter().all(|&x| CellPoint::locate(&g, x).all_nodes_inside(&g));
+            if !(area > 0.0 && area.is_finite()) {
+                CornerLayout::LinearFallback
+            } else if off_axis && cells_inside {
+                CornerLayout::Interior
+            } else {
+                CornerLayout::Edge
+            }
+        };
+        let mut quads = vec![
+            // Corners on the axis (r = 0 exactly), just off it, on grid lines, on the grid's
+            // upper and lower edges.
+            [[0.0, 0.45], [0.1, 0.45], [0.1, 0.55], [0.0, 0.55]],
+            [[1e-12, 0.45], [0.1, 0.45], [0.1, 0.55], [1e-12, 0.55]],
+            [[0.2, 0.4], [0.3, 0.4], [0.3, 0.5], [0.2, 0.5]],
+            [[0.9, 0.45], [1.0, 0.45], [1.0, 0.55], [0.9, 0.55]],
+            [[0.45, 0.0], [0.55, 0.0], [0.55, 0.1], [0.45, 0.1]],
+        ];
+        let mut rng = Rng(2024);
+        for _ in 0..4000 {
+            let centre = [rng.range(-0.15, 1.15), rng.range(-0.15, 1.15)];
+            let size = rng.range(0.002, 0.3);
+            quads.push(random_convex_quad(&mut rng, centre, size));
+        }
+        let mut count = [[0; 2]; 2];
+        for (k, &c) in quads.iter().enumerate() {
+            for axisymmetric in [false, true] {
+                let want = definition(c, axisymmetric);
+                assert_eq!(layout(c, axisymmetric), want, "quad {k} {c:?}, axisymmetric {axisymmetric}");
+                if want != CornerLayout::LinearFallback {
+                    count[axisymmetric as usize][(want == CornerLayout::Interior) as usize] += 1;
+                }
+            }
+        }
+        // The hand-made cases: on the axis, Edge in axisymmetry only; on the upper edge of the
+        // grid the corner's cell is the one beyond it (Edge), on the lower edge the first one.
+        use CornerLayout::{Edge, Interior};
+        assert_eq!((layout(quads[0], false), layout(quads[0], true)), (Interior, Edge));
+        assert_eq!((layout(quads[1], true), layout(quads[2], true)), (Interior, Interior));
+        assert_eq!((layout(quads[3], false), layout(quads[4], false)), (Edge, Interior));
+        // Both layouts many times in both formulations.
+        assert!(count.iter().flatten().all(|&m| m > 500), "{count:?}");
+        // Clockwise corners (V < 0): the linear fallback.
+        let mut clockwise = quads[2];
+        clockwise.reverse();
+        assert_eq!(layout(clockwise, false), CornerLayout::LinearFallback);
+    }
+
     #[test]
     fn degenerate_domain_falls_back_to_linear() {
         let g = grid();

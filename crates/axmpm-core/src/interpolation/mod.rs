@@ -425,7 +425,8 @@ mod tests {
     }
 
     /// The clamps are `max`/`min` on ordinary values, give the lower bound for a NaN, and +0
-    /// for −0 against a bound of +0 (the axis).
+    /// for −0 against a bound of +0 (the axis); the upper bound is the same select, so a zero
+    /// against an upper bound of the other zero gives the bound (`f64::min` leaves it open).
     #[test]
     fn clamps_are_max_and_min_with_nan_and_signed_zero_defined() {
         for x in [-2.0, -1e-300, 0.25, 0.5, 0.999, 1.0, 1.5, 1e300, f64::INFINITY, f64::NEG_INFINITY] {
@@ -436,6 +437,8 @@ mod tests {
         assert_eq!(clamp_between(f64::NAN, 0.25, 1.0), 0.25);
         assert_eq!(at_least(-0.0, 0.0).to_bits(), 0.0_f64.to_bits());
         assert_eq!(clamp_between(-0.0, 0.0, 1.0).to_bits(), 0.0_f64.to_bits());
+        assert_eq!(clamp_between(-0.0, -1.0, 0.0).to_bits(), 0.0_f64.to_bits());
+        assert_eq!(clamp_between(0.0, -1.0, -0.0).to_bits(), (-0.0_f64).to_bits());
     }
 
     /// `fast_floor` is `f64::floor` bit for bit (but for −0, which gives +0), on both sides of

@@ -418,6 +418,40 @@ mod tests {
         assert!((st.gradient[k][0] - 7.0).abs() < 1e-12 && (st.gradient[k][1] - 3.0).abs() < 1e-12);
     }
 
+    /// A point particle exactly on a node (weight 1 there, 0 on the next node of its cell)
+    /// keeps both nodes of the cell, as the linear hat does: the zero-weight node still has
+    /// the gradient ±1/h. Only a domain of nonzero width drops its zero-weight end nodes.
+    #[test]
+    fn zero_width_on_a_node_keeps_the_zero_weight_node_and_its_gradient() {
+        let g = grid();
+        let mut lin = Stencil::default();
+        for x in [[0.5, 0.5], [0.5, 0.27], [0.13, 0.5], [0.0, 0.0]] {
+            let l = g.local(x);
+            assert!(l.iter().any(|&c| c == c.floor()), "the test needs a coordinate on a node, {x:?}");
+            let st = ugimp(x, [0.0, 0.0], false);
+            Linear::stencil(&g, &single_particle(x, [0.0; 2]), 0, false, &mut lin);
+            assert_eq!((st.len, stencil_difference(&st, &lin)), (lin.len, (0.0, 0.0)), "at {x:?}");
+        }
+    }
+
+    /// A domain so narrow (2⁻⁵³ cells) that it starts one ulp below node 1: the weight of node
+    /// 0 rounds to zero (its midpoint (p + q)/2 rounds to the node), and node 0 is dropped like
+    /// any zero-weight end node, although every node is on the grid (the usual case's shortcut
+    /// must not keep it). Every kept weight is positive and the kept weights sum to one.
+    #[test]
+    fn a_first_node_whose_weight_rounds_to_zero_is_dropped() {
+        let lam = f64::EPSILON / 2.0;
+        assert_eq!(1.0 - lam, 1.0_f64.next_down(), "the domain must start one ulp below node 1");
+        for (l, n) in [(1.0, 11), (1.0, 3)] {
+            let mut ax = Axis1d::default();
+            axis_weights(l, lam, n, 10.0, &mut ax);
+            let kept = &ax.weight[..ax.len as usize];
+            assert!(ax.first >= 1 && ax.first as usize + kept.len() <= n, "l = {l}: nodes {} + {}", ax.first, ax.len);
+            assert!(kept.iter().all(|&w| w > 0.0), "l = {l}: kept weights {kept:?}");
+            assert!((kept.iter().sum::<f64>() - 1.0).abs() < 1e-15, "l = {l}: kept weights {kept:?}");
+        }
+    }
+
     #[test]
     fn one_d_weight_matches_the_piecewise_formula() {
         let h = 0.1;
