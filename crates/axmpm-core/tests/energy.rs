@@ -13,8 +13,9 @@ const G: f64 = 9.81;
 /// A 0.4 m × 0.2 m elastic block (ρ = 1000, E = 10 MPa, geostatic start so it does not
 /// bounce) sliding at 1 m/s on a Coulomb base μ = 0.3, plane strain. It decelerates at μg
 /// and stops after v/(μg) = 0.34 s: the base friction dissipation must equal the initial
-/// kinetic energy ½ M v² (within 3 %; measured −2.2 %), the kinetic energy must be gone, and
-/// the residual must stay a small fraction of it (6 %).
+/// kinetic energy ½ M v² less the work of lifting the block (its geostatic start relaxes
+/// upwards by about a millimetre; within 2 % of ½ M v², measured −0.8 %), the kinetic energy
+/// must be gone, and the residual must stay a small fraction of it (1 %).
 #[test]
 fn a_block_sliding_to_rest_dissipates_its_kinetic_energy_in_base_friction() {
     let (v0, mu) = (1.0, 0.3);
@@ -32,14 +33,18 @@ fn a_block_sliding_to_rest_dissipates_its_kinetic_energy_in_base_friction() {
     sim.advance(0.5, u64::MAX).unwrap();
     let e = sim.energies();
     let friction = e.boundary_friction_dissipation;
-    assert!((friction - kinetic0).abs() < 0.03 * kinetic0, "friction {friction} vs ½Mv² {kinetic0}: {e:?}");
+    // gravity_work < 0: the energy spent lifting the block.
+    let available = kinetic0 + e.gravity_work;
+    assert!((friction - available).abs() < 0.02 * kinetic0, "friction {friction} vs ½Mv² − lift {available}: {e:?}");
     assert!(e.kinetic_energy < 0.01 * kinetic0, "{e:?}");
     // Sources: the released potential (here negative: the geostatic block relaxes upwards), the
     // initial kinetic energy and the initial stored elastic energy.
     let lost = e.residual() + kinetic0 + e0.elastic_energy;
-    // Measured −4.9 % of ½Mv² (energy gained: the block's centre rises 3 mm while it slides,
-    // gravity_work = −2.5 J; not analysed). A tolerance of 6 %.
-    assert!(lost.abs() < 0.06 * kinetic0, "residual {lost}: {e:?} from {e0:?}");
+    // Measured +0.43 % of ½Mv². It was −4.9 % (energy created: the block rose 3 mm while it
+    // slid, gravity_work = −2.5 J) before the MUSL re-map kept the base's contact state of v⁺
+    // (`ConstrainedNodes::correct_remapped`): the stressed particles on the base were pushed
+    // off it without relaxing. A tolerance of 1 %.
+    assert!(lost.abs() < 0.01 * kinetic0, "residual {lost}: {e:?} from {e0:?}");
     assert_eq!(e.plastic_work, 0.0);
     // The slide: v²/(2μg) = 0.170 m.
     let x = sim.particles().position.iter().map(|x| x[0]).sum::<f64>() / sim.particles().len() as f64;

@@ -48,6 +48,10 @@ impl Constraint for GridFace {
         self.line.correct(context, velocity, record);
     }
 
+    fn apply_remapped(&mut self, _context: &NodalContext, velocity: &mut [[f64; 2]]) {
+        self.line.correct_remapped(velocity);
+    }
+
     fn take_impulse(&mut self) -> [f64; 2] {
         self.line.take_impulse()
     }

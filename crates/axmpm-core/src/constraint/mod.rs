@@ -70,6 +70,12 @@ pub trait Constraint: Send + Sync {
     /// (v⁺, the physical correction: its removed momentum counts towards the reaction) and
     /// false for the MUSL re-mapped velocities.
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool);
+    /// Corrects the MUSL re-mapped velocities of the step (after the recorded call on v⁺).
+    /// By default the same correction as an unrecorded [`Constraint::apply`]; faces and walls
+    /// keep the contact state of v⁺ ([`ConstrainedNodes::correct_remapped`]).
+    fn apply_remapped(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]]) {
+        self.apply(context, velocity, false);
+    }
     /// Impulse the material exerted on the constraint since the last call (N·s, per radian
     /// or per metre: Σ_nodes m_i (v_before − v_after)), reset to zero by the call.
     fn take_impulse(&mut self) -> [f64; 2] {
@@ -112,6 +118,12 @@ pub struct NodeCondition {
 }
 
 impl NodeCondition {
+    /// Whether a node moving with `v` is pressed into a unilateral (`friction`) wall.
+    #[inline(always)]
+    pub fn moves_into_wall(&self, v: [f64; 2]) -> bool {
+        self.condition == Condition::Friction && v[self.axis as usize] * self.outward > 0.0
+    }
+
     /// Corrects one nodal velocity (module doc).
     #[inline(always)]
     pub fn correct(&self, v: &mut [f64; 2]) {
@@ -173,11 +185,21 @@ pub struct ConstrainedNodes {
     dissipated: [f64; 2],
     /// Per node, the correction of the last unrecorded call (start-of-step velocity).
     start_correction: Vec<[f64; 2]>,
+    /// Per node, whether the last recorded call (v⁺) found it in contact: a `friction` node
+    /// moving into the wall. Read by [`ConstrainedNodes::correct_remapped`].
+    in_contact: Vec<bool>,
 }
 
 impl ConstrainedNodes {
     pub fn new(nodes: Vec<u32>, condition: NodeCondition) -> Self {
-        Self { nodes, condition, impulse: [0.0; 2], dissipated: [0.0; 2], start_correction: Vec::new() }
+        Self {
+            nodes,
+            condition,
+            impulse: [0.0; 2],
+            dissipated: [0.0; 2],
+            start_correction: Vec::new(),
+            in_contact: Vec::new(),
+        }
     }
 
     /// [`NodeCondition::correct_nodes`] with the energy budget (module doc): a recorded call
@@ -185,10 +207,12 @@ impl ConstrainedNodes {
     /// ([normal, tangential]); an unrecorded one (start-of-step velocities) keeps each node's
     /// correction for it.
     pub fn correct(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
-        let Self { nodes, condition, impulse, dissipated, start_correction } = self;
+        let Self { nodes, condition, impulse, dissipated, start_correction, in_contact } = self;
         if start_correction.len() != nodes.len() {
             start_correction.clear();
             start_correction.resize(nodes.len(), [0.0; 2]);
+            in_contact.clear();
+            in_contact.resize(nodes.len(), false);
         }
         if record {
             let a = condition.axis as usize;
@@ -196,6 +220,7 @@ impl ConstrainedNodes {
             for (k, &node) in nodes.iter().enumerate() {
                 let v = &mut velocity[node as usize];
                 let before = *v;
+                in_contact[k] = condition.moves_into_wall(before);
                 condition.correct(v);
                 let m = context.mass[node as usize];
                 let j = [m * (before[0] - v[0]), m * (before[1] - v[1])];
@@ -211,6 +236,39 @@ impl ConstrainedNodes {
                 let before = *v;
                 condition.correct(v);
                 start_correction[k] = [before[0] - v[0], before[1] - v[1]];
+            }
+        }
+    }
+
+    /// Corrects the MUSL re-mapped velocities with the contact state of the step's v⁺
+    /// correction: a `friction` node that was pressed into the wall in v⁺ keeps zero normal
+    /// velocity even when its re-mapped velocity points away from the wall (the other nodes,
+    /// and the other conditions, as in [`NodeCondition::correct`]).
+    ///
+    /// Why: the strain rate is taken from the re-mapped velocities. A particle pressed against
+    /// the wall is pushed off it by the wall's correction of v⁺ (the half of its internal
+    /// force pointing into the wall is removed); if its nodes on the wall were then let go
+    /// because the re-mapped velocity — the particle's own, now moving away — points away, all
+    /// its nodes carry one velocity, its strain rate is zero, and its stress never relaxes: a
+    /// compressed spring leaving a wall without lengthening, a source of energy (a lone dilute
+    /// particle at a base was measured accelerating at J σ/(ρ0 h) ≈ 4.7·10⁴ m/s² until it left
+    /// the grid; docs/validation.md). With the contact kept for the re-map, the particle
+    /// lengthens as it leaves and its stress relaxes (docs/physics.md §1, "Walls").
+    pub fn correct_remapped(&mut self, velocity: &mut [[f64; 2]]) {
+        let Self { nodes, condition, in_contact, .. } = self;
+        if in_contact.len() != nodes.len() {
+            // No recorded call yet: no contact state to keep.
+            for &node in nodes.iter() {
+                condition.correct(&mut velocity[node as usize]);
+            }
+            return;
+        }
+        let a = condition.axis as usize;
+        for (&node, &contact) in nodes.iter().zip(in_contact.iter()) {
+            let v = &mut velocity[node as usize];
+            condition.correct(v);
+            if contact {
+                v[a] = 0.0;
             }
         }
     }
@@ -263,6 +321,14 @@ impl Constraints {
     pub fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
         for c in &mut self.list {
             c.apply(context, velocity, record);
+        }
+    }
+
+    /// Applies every constraint, in order, to the MUSL re-mapped velocities
+    /// ([`Constraint::apply_remapped`]).
+    pub fn apply_remapped(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]]) {
+        for c in &mut self.list {
+            c.apply_remapped(context, velocity);
         }
     }
 
@@ -357,6 +423,67 @@ mod tests {
         let mut v = [2.0, 1.5];
         NodeCondition { axis: 0, outward: 1.0, condition: Condition::Friction, coefficient: 0.5 }.correct(&mut v);
         assert_eq!(v, [0.0, 0.5]);
+    }
+
+    #[test]
+    fn remapped_velocities_keep_the_contact_of_v_plus() {
+        // A friction base (outward −y) on nodes 0, 1, 2, μ = 0.5.
+        let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.5);
+        let mass = vec![1.0; g.num_nodes()];
+        let mut line = ConstrainedNodes::new(vec![0, 1, 2], base(Condition::Friction, 0.5));
+        // Before any recorded call there is no contact state: the plain correction.
+        let mut v = vec![[1.0, 2.0]; g.num_nodes()];
+        v[1] = [1.0, -2.0];
+        line.correct_remapped(&mut v);
+        assert_eq!(&v[..3], &[[1.0, 2.0], [0.0, 0.0], [1.0, 2.0]]);
+        // v⁺: node 0 pressed into the base, node 1 leaving it, node 2 at rest on it.
+        let mut v_plus = vec![[0.0; 2]; g.num_nodes()];
+        v_plus[0] = [3.0, -1.0];
+        v_plus[1] = [3.0, 1.0];
+        line.correct(&context(&g, &mass, 0.0), &mut v_plus, true);
+        assert_eq!(&v_plus[..3], &[[2.5, 0.0], [3.0, 1.0], [0.0, 0.0]]);
+        // Re-mapped: every node moving away, at 0.5 m/s. Node 0 keeps its contact (normal
+        // velocity 0, tangential free: nothing presses it in), the others leave.
+        let mut remapped = vec![[2.0, 0.5]; g.num_nodes()];
+        line.correct_remapped(&mut remapped);
+        assert_eq!(&remapped[..4], &[[2.0, 0.0], [2.0, 0.5], [2.0, 0.5], [2.0, 0.5]]);
+        // Re-mapped velocities into the base get the full friction correction on every node.
+        let mut remapped = vec![[2.0, -1.0]; g.num_nodes()];
+        line.correct_remapped(&mut remapped);
+        assert_eq!(&remapped[..3], &[[1.5, 0.0], [1.5, 0.0], [1.5, 0.0]]);
+        // The impulse is the recorded call's alone (node 0: m (v_before − v_after)).
+        assert_eq!(line.take_impulse(), [0.5, -1.0]);
+        // A roller (bilateral) is a roller whatever the contact state.
+        let mut roller = ConstrainedNodes::new(vec![0], base(Condition::Roller, 0.0));
+        let mut v_plus = vec![[1.0, -1.0]];
+        roller.correct(&context(&g, &mass, 0.0), &mut v_plus, true);
+        let mut remapped = vec![[1.0, 1.0]];
+        roller.correct_remapped(&mut remapped);
+        assert_eq!(remapped[0], [1.0, 0.0]);
+    }
+
+    #[test]
+    fn a_removed_wall_lets_remapped_velocities_go() {
+        let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.5);
+        let wall = WallConfig {
+            axis: Axis::X,
+            position: 0.5,
+            material_side: Side::Negative,
+            condition: Condition::Friction,
+            coefficient: 0.0,
+            removal_time: Some(0.1),
+        };
+        let mut cs = Constraints::new(&g, &BoundariesConfig::default(), &[wall], false);
+        let mass = vec![1.0; g.num_nodes()];
+        let node = g.node_index(1, 1);
+        for (time, kept) in [(0.0, true), (0.2, false)] {
+            let mut v_plus = vec![[1.0, 0.0]; g.num_nodes()];
+            cs.apply(&context(&g, &mass, time), &mut v_plus, true);
+            let mut remapped = vec![[-1.0, 0.0]; g.num_nodes()];
+            cs.apply_remapped(&context(&g, &mass, time), &mut remapped);
+            let expected = if kept { [0.0, 0.0] } else { [-1.0, 0.0] };
+            assert_eq!(remapped[node], expected, "t = {time}");
+        }
     }
 
     #[test]

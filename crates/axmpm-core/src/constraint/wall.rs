@@ -61,6 +61,12 @@ impl Constraint for Wall {
         }
     }
 
+    fn apply_remapped(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]]) {
+        if context.time < self.removal_time {
+            self.line.correct_remapped(velocity);
+        }
+    }
+
     fn take_impulse(&mut self) -> [f64; 2] {
         self.line.take_impulse()
     }

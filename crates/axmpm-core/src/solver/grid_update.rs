@@ -110,7 +110,7 @@ pub(super) fn remap_velocity(state: &mut State, dt: f64) {
         dt,
         axisymmetric: state.parameters.axisymmetric,
     };
-    state.constraints.apply(&context, &mut fields.velocity, false);
+    state.constraints.apply_remapped(&context, &mut fields.velocity);
     state.timings.serial += serial_start.elapsed().as_secs_f64();
 }
 
