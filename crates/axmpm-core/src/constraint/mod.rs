@@ -463,6 +463,21 @@ mod tests {
     }
 
     #[test]
+    fn the_axis_holds_remapped_velocities_too() {
+        // Axisymmetric, no faces: the axis (a roller, v_r = 0 at r = 0) corrects the
+        // re-mapped velocities like every other field (the trait's default `apply_remapped`).
+        let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.5);
+        let mut cs = Constraints::new(&g, &BoundariesConfig::default(), &[], true);
+        let mass = vec![1.0; g.num_nodes()];
+        let mut remapped = vec![[1.0, 2.0]; g.num_nodes()];
+        cs.apply_remapped(&context(&g, &mass, 0.0), &mut remapped);
+        for j in 0..3 {
+            assert_eq!(remapped[g.node_index(0, j)], [0.0, 2.0]);
+            assert_eq!(remapped[g.node_index(1, j)], [1.0, 2.0]);
+        }
+    }
+
+    #[test]
     fn a_removed_wall_lets_remapped_velocities_go() {
         let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.5);
         let wall = WallConfig {
