@@ -491,7 +491,8 @@ mod tests {
         let mut cs = Constraints::new(&g, &BoundariesConfig::default(), &[wall], false);
         let mass = vec![1.0; g.num_nodes()];
         let node = g.node_index(1, 1);
-        for (time, kept) in [(0.0, true), (0.2, false)] {
+        // Removed at its removal time exactly, as in `apply`.
+        for (time, kept) in [(0.0, true), (0.1, false), (0.2, false)] {
             let mut v_plus = vec![[1.0, 0.0]; g.num_nodes()];
             cs.apply(&context(&g, &mass, time), &mut v_plus, true);
             let mut remapped = vec![[-1.0, 0.0]; g.num_nodes()];
