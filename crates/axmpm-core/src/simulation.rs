@@ -122,6 +122,16 @@ fn select_step(formulation: FormulationKind, shape: ShapeFunctionKind) -> StepFn
     }
 }
 
+/// The set-up of the scheme's stencil cache ([`solver::allocate_stencil_cache`]).
+fn select_cache_allocation(shape: ShapeFunctionKind) -> fn(&mut State) {
+    match shape {
+        ShapeFunctionKind::Linear => solver::allocate_stencil_cache::<Linear>,
+        ShapeFunctionKind::Ugimp => solver::allocate_stencil_cache::<UGimp>,
+        ShapeFunctionKind::Cpgimp => solver::allocate_stencil_cache::<CpGimp>,
+        ShapeFunctionKind::Cpdi2 => solver::allocate_stencil_cache::<Cpdi2>,
+    }
+}
+
 /// Whether `tiles` cover the particle arrays `0..n` in order, each tile non-empty.
 fn tiles_cover(tiles: &[Tile], n: usize) -> bool {
     let mut next = 0;
@@ -271,6 +281,7 @@ impl Simulation {
         if state.tiles.is_empty() {
             pool.install(|| state.sort_if_due());
         }
+        select_cache_allocation(s.shape_function)(&mut state);
         let step_fn = select_step(s.formulation, s.shape_function);
         let reactions_since = state.time;
         Ok(Self {

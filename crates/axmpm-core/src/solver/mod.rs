@@ -224,8 +224,15 @@ pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravit
     result
 }
 
-/// The scheme's per-particle stencil cache, kept in the scratch between steps (allocated on
-/// the first step only).
+/// Allocates the scheme's per-particle stencil cache in the scratch at set-up, so that no step
+/// allocates it (`step` would on its first call otherwise).
+pub fn allocate_stencil_cache<S: ShapeFunction>(state: &mut State) {
+    let cache = take_stencil_cache::<S>(state);
+    state.scratch.stencil_cache = Some(Box::new(cache));
+}
+
+/// The scheme's per-particle stencil cache, kept in the scratch between steps (allocated at
+/// set-up by [`allocate_stencil_cache`], or here if the particle count changed).
 fn take_stencil_cache<S: ShapeFunction>(state: &mut State) -> Vec<S::Cache> {
     let n = state.particles.len();
     match state.scratch.stencil_cache.take().map(|b| b.downcast::<Vec<S::Cache>>()) {
