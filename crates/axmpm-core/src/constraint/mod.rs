@@ -5,7 +5,8 @@
 //! bodies), to the start-of-step velocities, to the velocities of the momentum update v⁺
 //! (`record = true`: the correction of v⁺ is the physical one, and the momentum it removes
 //! is the impulse the material exerts on the constraint) and, with MUSL, to the re-mapped
-//! velocities. Each constraint that reports a reaction accumulates that impulse,
+//! velocities (where faces and walls keep each node's contact state of v⁺:
+//! [`ConstrainedNodes::correct_remapped`]). Each constraint that reports a reaction accumulates that impulse,
 //! Σ_nodes m_i (v_before − v_after) per radian or per metre, until [`Constraint::take_impulse`].
 //! With PIC velocities this is exactly the momentum the particles lose to the constraint; with
 //! FLIP the particles also keep what the start-of-step correction removed from the grid, so
@@ -68,7 +69,8 @@ pub trait Constraint: Send + Sync {
     fn name(&self) -> &str;
     /// Corrects the nodal velocities in place. `record` is true for the momentum update
     /// (v⁺, the physical correction: its removed momentum counts towards the reaction) and
-    /// false for the MUSL re-mapped velocities.
+    /// false for the start-of-step velocities (the MUSL re-mapped ones go through
+    /// [`Constraint::apply_remapped`]).
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool);
     /// Corrects the MUSL re-mapped velocities of the step (after the recorded call on v⁺).
     /// By default the same correction as an unrecorded [`Constraint::apply`]; faces and walls
@@ -193,12 +195,13 @@ pub struct ConstrainedNodes {
 impl ConstrainedNodes {
     pub fn new(nodes: Vec<u32>, condition: NodeCondition) -> Self {
         Self {
-            nodes,
             condition,
             impulse: [0.0; 2],
             dissipated: [0.0; 2],
             start_correction: Vec::new(),
-            in_contact: Vec::new(),
+            // No contact before the first recorded call: the re-map gets the plain correction.
+            in_contact: vec![false; nodes.len()],
+            nodes,
         }
     }
 
@@ -211,8 +214,6 @@ impl ConstrainedNodes {
         if start_correction.len() != nodes.len() {
             start_correction.clear();
             start_correction.resize(nodes.len(), [0.0; 2]);
-            in_contact.clear();
-            in_contact.resize(nodes.len(), false);
         }
         if record {
             let a = condition.axis as usize;
@@ -253,16 +254,10 @@ impl ConstrainedNodes {
     /// compressed spring leaving a wall without lengthening, a source of energy (a lone dilute
     /// particle at a base was measured accelerating at J σ/(ρ0 h) ≈ 4.7·10⁴ m/s² until it left
     /// the grid; docs/validation.md). With the contact kept for the re-map, the particle
-    /// lengthens as it leaves and its stress relaxes (docs/physics.md §1, "Walls").
+    /// lengthens as it leaves and its stress relaxes (docs/physics.md §8, "The contact state
+    /// of the step").
     pub fn correct_remapped(&mut self, velocity: &mut [[f64; 2]]) {
         let Self { nodes, condition, in_contact, .. } = self;
-        if in_contact.len() != nodes.len() {
-            // No recorded call yet: no contact state to keep.
-            for &node in nodes.iter() {
-                condition.correct(&mut velocity[node as usize]);
-            }
-            return;
-        }
         let a = condition.axis as usize;
         for (&node, &contact) in nodes.iter().zip(in_contact.iter()) {
             let v = &mut velocity[node as usize];
