@@ -64,6 +64,39 @@ def test_failed_runs_are_tabulated_but_not_fitted(tmp_path):
     assert "| a10 |" in text and "failed" in text
 
 
+def test_the_report_says_which_law_each_branch_follows(tmp_path):
+    """Runs on Lube's 1.24 a below the break and on Lajeunesse's 2.0 a^1/2 above it: the report
+    names Lube 2004 as the closest law below and Lajeunesse 2004 above, with the counts within
+    10 % (issue 15: where the laws disagree, say which one the model follows)."""
+    from axmpm.cases.column_collapse.laws import compare
+    from axmpm.cases.column_collapse.sweep_report import law_agreement, sweep_report
+
+    def runout(a):
+        return 1.24 * a if a < 2.0 else 2.0 * a**0.5
+
+    cases = [{"name": f"a{a:g}", "aspect_ratio": a, "cells_per_radius": 30.0, "runout_normalised": runout(a),
+              "final_height_normalised": 0.7, "volume_ratio_mean": 1.0, "status": "completed",
+              "laws": compare(a, runout(a), 0.7, 0.03), "run_dir": f"cases/column_collapse/a{a:g}"}
+             for a in (0.5, 0.8, 1.2, 1.7, 2.5, 4.0, 5.4, 7.0, 10.0)]
+    text = sweep_report(cases, tmp_path, {"formulation": "axisymmetric", "overrides": []}, figures=False)
+    agreement = cases[0]["law_agreement"]
+    assert [g["closest"] for g in agreement] == ["lube2004", "lajeunesse2004_kk"], agreement
+    below, above = agreement
+    lube_below = next(r for r in below["laws"] if r["law"] == "lube2004")
+    assert lube_below["mean_abs_diff"] < 1e-12 and lube_below["within"] == lube_below["runs"] == below["runs"]
+    lube_above = next(r for r in above["laws"] if r["law"] == "lube2004")
+    # 2.0 a^1/2 against Lube's 1.6 a^1/2: +25 % at every a above the break
+    assert abs(lube_above["mean_abs_diff"] - 0.25) < 1e-9 and lube_above["within"] == 0
+    assert "Closest: **Lube 2004**" in text and "Closest: **Lajeunesse 2004**" in text
+    # the count follows the tolerance: Lube's 25 % above the break is within 30 %, not 20 %
+    fits = cases[0]["sweep_fit"]
+    for tolerance, expected in ((0.30, above["runs"]), (0.20, 0)):
+        g = law_agreement(cases, fits, within=tolerance)[1]
+        assert next(r for r in g["laws"] if r["law"] == "lube2004")["within"] == expected, (tolerance, g)
+    # without a fit (too few runs) one group over all runs
+    assert [g["range"] for g in law_agreement(cases[:3], None)] == ["all a"]
+
+
 def test_plane_strain_sweep_is_tabulated_against_the_planar_laws(tmp_path):
     from axmpm.cases.column_collapse.laws import compare
     from axmpm.cases.column_collapse.sweep_report import sweep_report

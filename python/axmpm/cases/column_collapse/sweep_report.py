@@ -192,6 +192,48 @@ def sweep_table(cases: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def law_agreement(cases: list[dict[str, Any]], fits: dict[str, Any] | None,
+                  within: float = 0.10) -> list[dict[str, Any]]:
+    """Which tabulated law the runs follow, on each side of the fitted break (or over all runs
+    without a fit): per law, the mean |relative difference| of the runout over the runs the law
+    covers and how many of them lie within `within`; the closest law is the one with the
+    smallest mean. Where the laws disagree with each other this says which one the model
+    follows (issue 15 asks the report to say so)."""
+    if fits is None:
+        groups = [("all a", cases)]
+    else:
+        b = fits["break"]
+        groups = [(f"a < {b:.3g}", [c for c in cases if c["aspect_ratio"] < b]),
+                  (f"a > {b:.3g}", [c for c in cases if c["aspect_ratio"] > b])]
+    result = []
+    for label, group in groups:
+        per_law = []
+        for law in TABLE_LAWS[_formulation(cases)]:
+            diffs = [abs(d) for c in group
+                     if (d := (c["laws"].get(law.key) or {}).get("runout_normalised_rel_diff")) is not None
+                     and math.isfinite(d)]
+            if diffs:
+                per_law.append({"law": law.key, "name": SHORT_NAMES.get(law.key, law.label), "runs": len(diffs),
+                                "mean_abs_diff": sum(diffs) / len(diffs),
+                                "within": sum(d <= within for d in diffs)})
+        if per_law:
+            closest = min(per_law, key=lambda r: r["mean_abs_diff"])
+            result.append({"range": label, "runs": len(group), "laws": per_law, "closest": closest["law"]})
+    return result
+
+
+def _agreement_text(agreement: list[dict[str, Any]], within: float = 0.10) -> str:
+    if not agreement:
+        return "no completed run to compare"
+    lines = []
+    for g in agreement:
+        laws = "; ".join(f"{r['name']} {100 * r['mean_abs_diff']:.1f} % ({r['within']} of {r['runs']} within "
+                         f"{100 * within:.0f} %)" for r in g["laws"])
+        closest = next(r["name"] for r in g["laws"] if r["law"] == g["closest"])
+        lines.append(f"* {g['range']} ({g['runs']} runs): mean |difference| {laws}. Closest: **{closest}**.")
+    return "\n".join(lines)
+
+
 def _energy_runs(cases: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """The runs of the energy figure: nearest to a = 0.56, to 5.4, and the largest a."""
     ok = [c for c in cases if "laws" in c and c.get("energy") and c.get("status") == "completed"]
@@ -234,6 +276,9 @@ def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any
         if cases:
             cases[0]["sweep_fit"] = fits  # validation.json keeps it with the first record
     energy_runs = _energy_runs(cases)
+    agreement = law_agreement(ok, fits)
+    if cases:
+        cases[0]["law_agreement"] = agreement  # validation.json keeps it with the first record
     animations = ""
     if figures and ok:
         from .case import write_animations
@@ -265,6 +310,10 @@ docs/physics.md §6, `axmpm/cases/column_collapse/laws.py`.
 ## Fit (R∞ − R_i)/R_i = λ a^β
 
 {fit_text}
+
+## Which law the runs follow
+
+{_agreement_text(agreement)}
 
 ## Every case
 
