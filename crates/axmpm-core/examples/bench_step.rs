@@ -8,7 +8,8 @@
 //!
 //! Prints the throughput, a hash of every particle array after the run (equal hashes =
 //! bit-for-bit equal results) and the serial fraction: the share of the timed wall time spent in
-//! the parts of the step that run on one thread (`PhaseTimings::serial`).
+//! the parts of the step that run on one thread (`PhaseTimings::serial`); then, on a second
+//! line, the wall time per particle-step of each pass.
 use axmpm_core::Simulation;
 
 fn scenario(formulation: &str, scheme: &str, cell: f64, material: &str) -> String {
@@ -58,11 +59,12 @@ fn main() {
     let material = args.get(7).map(String::as_str).unwrap_or("mohr_coulomb");
     let mut sim = Simulation::from_json(&scenario(formulation, scheme, cell, material), threads).unwrap();
     sim.advance(1e9, warmup).unwrap();
-    let serial_before = sim.timings().serial;
+    let before = sim.timings();
     let t = std::time::Instant::now();
     sim.advance(1e9, steps).unwrap();
     let el = t.elapsed().as_secs_f64();
-    let serial = sim.timings().serial - serial_before;
+    let after = sim.timings();
+    let serial = after.serial - before.serial;
     let p = sim.particles();
     let mut h = 0xcbf2_9ce4_8422_2325u64;
     hash(&mut h, p.position.iter().flatten().copied());
@@ -84,5 +86,15 @@ fn main() {
         steps as f64 * p.len() as f64 / el / 1e6,
         sim.bytes_per_particle(),
         serial / el
+    );
+    // Wall time per particle-step of each pass (ns): their ratios are steadier than the total
+    // on a VM whose speed drifts between runs (a change to one pass shows against the others).
+    let per = 1e9 / (steps as f64 * p.len() as f64);
+    println!(
+        "passes ns/particle-step: particle_to_grid={:.2} grid_update={:.2} grid_to_particle={:.2} update_particles={:.2}",
+        (after.particle_to_grid - before.particle_to_grid) * per,
+        (after.grid_update - before.grid_update) * per,
+        (after.grid_to_particle - before.grid_to_particle) * per,
+        (after.constitutive_update - before.constitutive_update) * per
     );
 }
