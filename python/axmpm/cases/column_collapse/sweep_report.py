@@ -218,17 +218,18 @@ def law_agreement(cases: list[dict[str, Any]], fits: dict[str, Any] | None,
                                 "within": sum(d <= within for d in diffs)})
         if per_law:
             closest = min(per_law, key=lambda r: r["mean_abs_diff"])
-            result.append({"range": label, "runs": len(group), "laws": per_law, "closest": closest["law"]})
+            result.append({"range": label, "runs": len(group), "laws": per_law, "closest": closest["law"],
+                           "tolerance": within})
     return result
 
 
-def _agreement_text(agreement: list[dict[str, Any]], within: float = 0.10) -> str:
+def _agreement_text(agreement: list[dict[str, Any]]) -> str:
     if not agreement:
         return "no completed run to compare"
     lines = []
     for g in agreement:
         laws = "; ".join(f"{r['name']} {100 * r['mean_abs_diff']:.1f} % ({r['within']} of {r['runs']} within "
-                         f"{100 * within:.0f} %)" for r in g["laws"])
+                         f"{100 * g['tolerance']:.0f} %)" for r in g["laws"])
         closest = next(r["name"] for r in g["laws"] if r["law"] == g["closest"])
         lines.append(f"* {g['range']} ({g['runs']} runs): mean |difference| {laws}. Closest: **{closest}**.")
     return "\n".join(lines)
