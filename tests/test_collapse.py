@@ -183,6 +183,12 @@ def test_tiny_validate_run(tmp_path):
         assert gif.n_frames == len(list((out / case["run_dir"] / "frames").glob("frame_*.npz")))
     assert "![a056](a056.gif)" in (out / "report.md").read_text()
     assert case["stress_free_fraction"] >= 0.0 and case["disconnection_fraction_of_plastic_work"] is None
+    # the tail figures: R∞(3d) inside the one-grain edge, the mass beyond each law's R∞ a share
+    assert case["runout_radius_3_grains"] <= case["runout_radius"]
+    assert case["runout_3_grains_rel_diff"]["lube2004"] == pytest.approx(
+        (case["runout_normalised_3_grains"] - lube["runout_normalised"]) / lube["runout_normalised"])
+    assert 0.0 <= case["mass_beyond_law"]["lube2004"] <= 1.0
+    assert "| at 3 d | diff | mass beyond Lube 2004 |" in (out / "report.md").read_text()
 
 
 @pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
@@ -202,6 +208,29 @@ def test_one_grain_runout_is_where_a_cone_is_one_grain_thick(formulation):
     # a block thinner than the threshold everywhere has no deposit edge beyond the axis
     xb, vb, _ = lattice(lambda r: S, 0.03, formulation)  # one 1 mm layer
     assert runout_radius_at_thickness(xb, vb, g) == 0.0
+
+
+@pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
+def test_tail_runout_and_mass_beyond_a_radius_on_a_cone(formulation):
+    """The tail figures reported beside the headline runout: R∞(3d) where the cone is three
+    grains thick (inside the one-grain edge), and the share of the mass beyond a radius,
+    against the cone's exact volume share outside ρ = r/Rc: ∫ρ¹ u(1 − u) du / ∫₀¹ u(1 − u) du
+    = 1 − 3ρ² + 2ρ³ axisymmetric, (1 − ρ)² planar."""
+    from axmpm.cases.column_collapse.deposit import GRAIN_DIAMETER, TAIL_GRAINS, mass_fraction_beyond
+
+    g = geom(formulation)
+    H0, Rc = 0.024, 0.05
+    x, v0, m = lattice(lambda r: H0 * (1 - r / Rc), Rc, formulation)
+    met = particle_metrics(x, v0, m, g)
+    tail = Rc * (1 - TAIL_GRAINS * GRAIN_DIAMETER / H0)
+    assert met["runout_radius_3_grains"] == pytest.approx(tail, abs=0.5e-3)
+    assert met["runout_normalised_3_grains"] == pytest.approx((tail - 0.03) / 0.03, abs=0.02)
+    assert met["runout_radius_3_grains"] < met["runout_radius"] - 0.004
+    for rho in (0.3, 0.6, 0.9):
+        exact = 1 - 3 * rho**2 + 2 * rho**3 if formulation == "axisymmetric" else (1 - rho) ** 2
+        assert mass_fraction_beyond(x, m, g, rho * Rc) == pytest.approx(exact, abs=0.02)
+    assert mass_fraction_beyond(x, m, g, Rc) == 0.0
+    assert mass_fraction_beyond(x, m, g, 0.0) == 1.0
 
 
 def test_pure_flip_runout_does_not_depend_on_the_step_count(tmp_path):

@@ -19,7 +19,7 @@ import numpy as np
 
 from .. import RunSpec, register
 from ...study.report import DASH, fmt, pct
-from .deposit import deposit_metrics, profiles
+from .deposit import deposit_metrics, geometry_from_scenario, mass_fraction_beyond, profiles
 from .laws import compare, laws_for, primary_law
 from .scenario import collapse_scenario
 
@@ -189,6 +189,9 @@ def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dic
     laws = compare(a, m["runout_normalised"], m["final_height_normalised"], m["initial_radius"], formulation)
     laws_edge = compare(a, m["runout_normalised_particle_edge"], m["final_height_normalised"],
                         m["initial_radius"], formulation)
+    laws_tail = compare(a, m["runout_normalised_3_grains"], m["final_height_normalised"],
+                        m["initial_radius"], formulation)
+    geom = geometry_from_scenario(run.scenario)
     return {
         "aspect_ratio": a,
         "nominal_aspect_ratio": nominal_a,
@@ -202,6 +205,15 @@ def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dic
         "runout_radius_particle_edge": m["runout_radius_particle_edge"],
         "runout_normalised_particle_edge": m["runout_normalised_particle_edge"],
         "runout_particle_edge_rel_diff": {k: v["runout_normalised_rel_diff"] for k, v in laws_edge.items()},
+        "runout_radius_3_grains": m["runout_radius_3_grains"],
+        "runout_normalised_3_grains": m["runout_normalised_3_grains"],
+        "runout_3_grains_rel_diff": {k: v["runout_normalised_rel_diff"] for k, v in laws_tail.items()},
+        # Share of the deposit's mass beyond each law's R∞: how much material the excess holds.
+        "mass_beyond_law": {
+            k: None if v["runout_radius"] is None
+            else mass_fraction_beyond(run.last.x, run.last.mass, geom, v["runout_radius"])
+            for k, v in laws.items()
+        },
         "runout_radius_99": m["runout_radius_99"],
         "final_height_p95": m["final_height_p95"],
         "max_particle_radius": m["max_particle_radius"],
@@ -312,13 +324,13 @@ def results_table(cases: list[dict[str, Any]]) -> str:
     # Plane strain: against the planar Lube et al. 2005 (no height law; unconfirmed, laws.py).
     law = "Lube 2005 planar (unconf.)" if planar else "Lube 2004"
     lines = [
-        f"| case | a | cells/R_i | (R∞−R_i)/R_i | {law} | diff | particle edge | diff | H∞/R_i | "
-        f"{law} H | diff | Lajeunesse 2005 H | wall s | status |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        f"| case | a | cells/R_i | (R∞−R_i)/R_i | {law} | diff | particle edge | diff | at 3 d | diff | "
+        f"mass beyond {law} | H∞/R_i | {law} H | diff | Lajeunesse 2005 H | wall s | status |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in cases:
         if "laws" not in c:
-            lines.append(f"| {c['name']} | " + " | ".join([DASH] * 11) + f" | {fmt(c.get('wall_seconds'), '.0f')} | "
+            lines.append(f"| {c['name']} | " + " | ".join([DASH] * 14) + f" | {fmt(c.get('wall_seconds'), '.0f')} | "
                          f"{c['status']} |")
             continue
         lube = c["laws"][primary_key(c)]
@@ -330,6 +342,9 @@ def results_table(cases: list[dict[str, Any]]) -> str:
             f"{pct(lube['runout_normalised_rel_diff'], 0)} | "
             f"{fmt(c.get('runout_normalised_particle_edge'), '.3f')} | "
             f"{pct(c.get('runout_particle_edge_rel_diff', {}).get(primary_key(c)), 0)} | "
+            f"{fmt(c.get('runout_normalised_3_grains'), '.3f')} | "
+            f"{pct((c.get('runout_3_grains_rel_diff') or {}).get(primary_key(c)), 0)} | "
+            f"{pct((c.get('mass_beyond_law') or {}).get(primary_key(c)), 1, signed=False)} | "
             f"{c['final_height_normalised']:.3f} | "
             f"{fmt(lube['final_height_normalised'], '.3f')}{h_tag} | {pct(lube['final_height_rel_diff'], 0)} | "
             f"{fmt(laj['final_height_normalised'], '.3f')} ({pct(laj['final_height_rel_diff'], 0)}) | "

@@ -29,6 +29,11 @@ Analysis rules (documented in docs/validation.md):
   centres. A layer thinner than one grain is not a deposit an experimenter could see, and
   this rule has a physical length scale, so it converges with the mesh where the particle
   edge does not.
+* **Tail** (reported beside the headline, never used to score it): R∞(3d), where the
+  thickness profile first falls below ``TAIL_GRAINS`` = 3 grain diameters (same bins), and
+  the share of the deposit's mass beyond a law's R∞ (:func:`mass_fraction_beyond`). How far
+  the runout depends on the thickness an observer would call the edge, and how much material
+  the excess over a law holds: the experiments do not state their edge criterion.
 * **Final height H∞**: the deposit surface at the axis: a robust (Theil–Sen) line through
   the solid-thickness profile within r < max(R_i/4, 5 cells), evaluated at r = 0. A flat
   top gives its height, a cone its apex; thin spikes and cell-scale striations (seen at
@@ -56,6 +61,7 @@ __all__ = [
     "column_tops",
     "height_percentile",
     "mass_radius",
+    "mass_fraction_beyond",
     "particle_metrics",
     "deposit_metrics",
     "profiles",
@@ -67,6 +73,8 @@ OCCUPIED_LAYERS = 0.25
 #: Grain diameter (m) for the one-grain runout: the Lajeunesse et al. (2004) glass beads,
 #: 1.15 mm (docs/validation-sources.md §2; medium confidence).
 GRAIN_DIAMETER = 1.15e-3
+#: Thickness, in grain diameters, of the tail runout R∞(3d) reported beside the headline.
+TAIL_GRAINS = 3.0
 #: Bin width (m) of the thickness profile for the one-grain runout (one cell if coarser).
 EDGE_BIN_WIDTH = 2e-3
 #: Central region for H∞, as a fraction of R_i.
@@ -218,6 +226,14 @@ def mass_radius(x: NDArray[np.float64], mass: NDArray[np.float64], geom: ColumnG
     return float(r[order][min(k, len(r) - 1)] + 0.5 * geom.spacing)
 
 
+def mass_fraction_beyond(x: NDArray[np.float64], mass: NDArray[np.float64], geom: ColumnGeometry,
+                         radius: float) -> float:
+    """Share of the mass whose particle centres lie farther than ``radius`` from the axis."""
+    r = x[:, 0] - geom.axis
+    total = float(mass.sum())
+    return float(mass[r > radius].sum()) / total if total > 0.0 else 0.0
+
+
 def column_tops(x: NDArray[np.float64], geom: ColumnGeometry,
                 r_limit: float | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Top of the particle column in radial bins one particle spacing wide: (bin centre r,
@@ -298,6 +314,7 @@ def particle_metrics(
     R_i, H_i = geom.radius, geom.height
     R_inf = runout_radius(x, volume0, geom)
     R_grain = runout_radius_at_thickness(x, volume0, geom)
+    R_tail = runout_radius_at_thickness(x, volume0, geom, TAIL_GRAINS * GRAIN_DIAMETER)
     H_inf = final_height(x, volume0, geom)
     return {
         "initial_radius": R_i,
@@ -311,6 +328,8 @@ def particle_metrics(
         "final_height_normalised": H_inf / R_i,
         "runout_radius_particle_edge": R_inf,
         "runout_normalised_particle_edge": (R_inf - R_i) / R_i,
+        "runout_radius_3_grains": R_tail,
+        "runout_normalised_3_grains": (R_tail - R_i) / R_i,
         "runout_radius_99": mass_radius(x, mass, geom, 0.99),
         "final_height_p95": height_percentile(x, mass, geom),
         "max_particle_radius": float((x[:, 0] - geom.axis).max() + 0.5 * geom.spacing),
@@ -328,7 +347,8 @@ def deposit_metrics(run_dir: str | Path) -> dict[str, Any]:
     ``runout_normalised`` = (R∞ − R_i)/R_i, ``final_height_normalised`` = H∞/R_i, ``time``
     (of the frame used), plus ``runout_radius_particle_edge`` and
     ``runout_normalised_particle_edge`` (outermost particle of the continuous deposit),
-    ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
+    ``runout_radius_3_grains`` and ``runout_normalised_3_grains`` (where the deposit is
+    three grains thick), ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
     ``cells_per_radius``, ``frame``, ``status``. Geometry comes from the scenario's first body.
     """
     from ...run.output import load_run

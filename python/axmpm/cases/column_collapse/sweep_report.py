@@ -167,13 +167,14 @@ SHORT_NAMES = {"lube2004": "Lube 2004", "lajeunesse2004_kk": "Lajeunesse 2004", 
 def sweep_table(cases: list[dict[str, Any]]) -> str:
     laws = TABLE_LAWS[_formulation(cases)]
     head = " | ".join(f"{SHORT_NAMES.get(law.key, law.label)} | diff" for law in laws)
-    lines = [f"| run | a | cells/R_i | (R∞−R_i)/R_i | {head} | H∞/R_i | mean J | "
-             "plastic | base friction | base impact | kinetic | residual | wall s | status |",
-             "|---|---|---|---|" + "---|---|" * len(laws) + "---|---|---|---|---|---|---|---|---|"]
+    first = SHORT_NAMES.get(laws[0].key, laws[0].label)
+    lines = [f"| run | a | cells/R_i | (R∞−R_i)/R_i | {head} | at 3 d | diff | mass beyond {first} | "
+             "H∞/R_i | mean J | plastic | base friction | base impact | kinetic | residual | wall s | status |",
+             "|---|---|---|---|" + "---|---|" * len(laws) + "---|---|---|---|---|---|---|---|---|---|---|---|"]
     for c in cases:
         if "laws" not in c:
             lines.append(f"| {c['name']} | {c.get('nominal_aspect_ratio', DASH)} | "
-                         + " | ".join([DASH] * (9 + 2 * len(laws)))
+                         + " | ".join([DASH] * (12 + 2 * len(laws)))
                          + f" | {fmt(c.get('wall_seconds'), '.0f')} | {c['status']}: {c.get('message', '')} |")
             continue
         cells = []
@@ -185,6 +186,9 @@ def sweep_table(cases: list[dict[str, Any]]) -> str:
         lines.append(
             f"| {c['name']} | {c['aspect_ratio']:.3g} | {c['cells_per_radius']:.0f} | {c['runout_normalised']:.3f} | "
             + " | ".join(cells) + " | "
+            f"{fmt(c.get('runout_normalised_3_grains'), '.3f')} | "
+            f"{pct((c.get('runout_3_grains_rel_diff') or {}).get(laws[0].key), 1)} | "
+            f"{pct((c.get('mass_beyond_law') or {}).get(laws[0].key), 1, signed=False)} | "
             f"{c['final_height_normalised']:.3f} | {c.get('volume_ratio_mean', float('nan')):.3f} | "
             f"{_share(c, 'plastic_work')} | {_share(c, 'boundary_friction_dissipation')} | "
             f"{_share(c, 'boundary_normal_dissipation')} | {_share(c, 'kinetic_energy')} | "
