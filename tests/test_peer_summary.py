@@ -1,0 +1,38 @@
+"""The peer benchmark's summary (benches/peer_taichi.py; Taichi itself is not needed)."""
+
+import importlib.util
+import math
+from pathlib import Path
+
+import pytest
+
+
+def load_peer():
+    path = Path(__file__).resolve().parents[1] / "benches" / "peer_taichi.py"
+    spec = importlib.util.spec_from_file_location("peer_taichi", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_summary_gives_median_mean_with_its_error_and_best_against_best():
+    peer = load_peer()
+    ours = [12.0, 15.0, 9.0, 16.0]
+    theirs = [8.0, 10.0, 9.0, 8.0]  # ratios 1.5, 1.5, 1.0, 2.0
+    text = peer.summary(ours, theirs)
+    mean = 1.5
+    error = math.sqrt(((0.0 + 0.0 + 0.25 + 0.25) / 3)) / 2  # sample s.d. / √n
+    assert "1.00–2.00" in text
+    assert "median 1.50" in text
+    assert f"mean {mean:.2f} ± {error:.2f}" in text  # ± 0.20
+    assert "best against best 1.60" in text  # 16 / 10, not the best pair's ratio 2.00
+    assert "pairs: 4" in text
+
+
+def test_summary_of_one_pair_has_no_error():
+    text = load_peer().summary([10.0], [8.0])
+    assert "median 1.25" in text and "±" not in text and "pairs: 1" in text
+
+
+if __name__ == "__main__":
+    pytest.main([__file__])
