@@ -98,7 +98,7 @@ pub struct Simulation {
     material_names: Vec<String>,
     state_names: Vec<String>,
     dt: f64,
-    step_fn: StepFn,
+    scheme: Scheme,
     pool: rayon::ThreadPool,
     failure: Option<SimulationFailure>,
     /// Time of the last [`Simulation::reactions`] call (or of the start of this object).
@@ -107,28 +107,43 @@ pub struct Simulation {
     parts_since: f64,
 }
 
-fn select_step(formulation: FormulationKind, shape: ShapeFunctionKind) -> StepFn {
-    fn pick<F: Formulation>(shape: ShapeFunctionKind) -> StepFn {
-        match shape {
-            ShapeFunctionKind::Linear => solver::step::<F, Linear>,
-            ShapeFunctionKind::Ugimp => solver::step::<F, UGimp>,
-            ShapeFunctionKind::Cpgimp => solver::step::<F, CpGimp>,
-            ShapeFunctionKind::Cpdi2 => solver::step::<F, Cpdi2>,
-        }
-    }
-    match formulation {
-        FormulationKind::PlaneStrain => pick::<PlaneStrain>(shape),
-        FormulationKind::Axisymmetric => pick::<Axisymmetric>(shape),
-    }
+/// What a run needs of its interpolation scheme, resolved once from the scenario's names:
+/// the one place that maps a `ShapeFunctionKind` to its type.
+#[derive(Clone, Copy)]
+struct Scheme {
+    /// The step, monomorphised for the formulation and the scheme.
+    step: StepFn,
+    /// Sets up the scheme's stencil cache ([`solver::allocate_stencil_cache`]).
+    allocate_cache: fn(&mut State),
+    /// Whether particles carry CPDI2 corners.
+    uses_corners: bool,
+    /// Bytes of the stencil cache per particle.
+    cache_bytes: usize,
 }
 
-/// The set-up of the scheme's stencil cache ([`solver::allocate_stencil_cache`]).
-fn select_cache_allocation(shape: ShapeFunctionKind) -> fn(&mut State) {
-    match shape {
-        ShapeFunctionKind::Linear => solver::allocate_stencil_cache::<Linear>,
-        ShapeFunctionKind::Ugimp => solver::allocate_stencil_cache::<UGimp>,
-        ShapeFunctionKind::Cpgimp => solver::allocate_stencil_cache::<CpGimp>,
-        ShapeFunctionKind::Cpdi2 => solver::allocate_stencil_cache::<Cpdi2>,
+impl Scheme {
+    fn of<F: Formulation, S: ShapeFunction>() -> Self {
+        Self {
+            step: solver::step::<F, S>,
+            allocate_cache: solver::allocate_stencil_cache::<S>,
+            uses_corners: S::USES_CORNERS,
+            cache_bytes: std::mem::size_of::<S::Cache>(),
+        }
+    }
+
+    fn select(formulation: FormulationKind, shape: ShapeFunctionKind) -> Self {
+        fn pick<F: Formulation>(shape: ShapeFunctionKind) -> Scheme {
+            match shape {
+                ShapeFunctionKind::Linear => Scheme::of::<F, Linear>(),
+                ShapeFunctionKind::Ugimp => Scheme::of::<F, UGimp>(),
+                ShapeFunctionKind::Cpgimp => Scheme::of::<F, CpGimp>(),
+                ShapeFunctionKind::Cpdi2 => Scheme::of::<F, Cpdi2>(),
+            }
+        }
+        match formulation {
+            FormulationKind::PlaneStrain => pick::<PlaneStrain>(shape),
+            FormulationKind::Axisymmetric => pick::<Axisymmetric>(shape),
+        }
     }
 }
 
@@ -142,15 +157,6 @@ fn tiles_cover(tiles: &[Tile], n: usize) -> bool {
         next = t.end;
     }
     !tiles.is_empty() && next as usize == n
-}
-
-fn uses_corners(shape: ShapeFunctionKind) -> bool {
-    match shape {
-        ShapeFunctionKind::Linear => Linear::USES_CORNERS,
-        ShapeFunctionKind::Ugimp => UGimp::USES_CORNERS,
-        ShapeFunctionKind::Cpgimp => CpGimp::USES_CORNERS,
-        ShapeFunctionKind::Cpdi2 => Cpdi2::USES_CORNERS,
-    }
 }
 
 impl Simulation {
@@ -186,7 +192,8 @@ impl Simulation {
         let grid = GridGeometry::new(g.origin, g.extent, g.cell_size);
         let s = &config.simulation;
         let axisymmetric = s.formulation == FormulationKind::Axisymmetric;
-        let with_corners = uses_corners(s.shape_function);
+        let scheme = Scheme::select(s.formulation, s.shape_function);
+        let with_corners = scheme.uses_corners;
         let (mut particles, time, steps, tiles) = match restored {
             Some(r) => r,
             None => {
@@ -281,8 +288,7 @@ impl Simulation {
         if state.tiles.is_empty() {
             pool.install(|| state.sort_if_due());
         }
-        select_cache_allocation(s.shape_function)(&mut state);
-        let step_fn = select_step(s.formulation, s.shape_function);
+        (scheme.allocate_cache)(&mut state);
         let reactions_since = state.time;
         Ok(Self {
             config,
@@ -290,7 +296,7 @@ impl Simulation {
             material_names,
             state_names,
             dt,
-            step_fn,
+            scheme,
             pool,
             failure: None,
             reactions_since,
@@ -326,7 +332,7 @@ impl Simulation {
                 (self.dt, false)
             };
             let gravity = self.gravity();
-            let step_fn = self.step_fn;
+            let step_fn = self.scheme.step;
             let state = &mut self.state;
             let result = self.pool.install(|| step_fn(state, dt, gravity));
             if lands {
@@ -385,12 +391,7 @@ impl Simulation {
     pub fn bytes_per_particle(&self) -> usize {
         let n = self.state.particles.len().max(1);
         let sc = &self.state.scratch;
-        let cache = match self.config.simulation.shape_function {
-            ShapeFunctionKind::Linear => std::mem::size_of::<<Linear as ShapeFunction>::Cache>(),
-            ShapeFunctionKind::Ugimp => std::mem::size_of::<<UGimp as ShapeFunction>::Cache>(),
-            ShapeFunctionKind::Cpgimp => std::mem::size_of::<<CpGimp as ShapeFunction>::Cache>(),
-            ShapeFunctionKind::Cpdi2 => std::mem::size_of::<<Cpdi2 as ShapeFunction>::Cache>(),
-        };
+        let cache = self.scheme.cache_bytes;
         let scratch = sc.displacement.capacity() * std::mem::size_of::<[f64; 2]>()
             + sc.velocity_gradient.capacity() * std::mem::size_of::<[f64; 5]>();
         self.state.particles.bytes_per_particle() + scratch / n + cache

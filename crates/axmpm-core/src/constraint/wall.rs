@@ -50,19 +50,26 @@ impl Wall {
     }
 }
 
+impl Wall {
+    /// Whether the wall still acts: before its removal time (removed at that time exactly).
+    fn stands(&self, context: &NodalContext) -> bool {
+        context.time < self.removal_time
+    }
+}
+
 impl Constraint for Wall {
     fn name(&self) -> &str {
         &self.name
     }
 
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
-        if context.time < self.removal_time {
+        if self.stands(context) {
             self.line.correct(context, velocity, record);
         }
     }
 
     fn apply_remapped(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]]) {
-        if context.time < self.removal_time {
+        if self.stands(context) {
             self.line.correct_remapped(velocity);
         }
     }
