@@ -11,6 +11,14 @@ of each and their ratio. Not a dependency of axmpm: install Taichi with the ``be
     python benches/peer_taichi.py [--cell-size 0.001] [--steps 200] [--warmup 10] [--repeats 3]
 
 Taichi scatters with atomic adds (its own parallel model); with one thread that is a plain add.
+
+Instructions per particle-step of each engine, free of the machine's load (needs valgrind):
+
+    python benches/peer_taichi.py --count-instructions [--steps 50]
+
+runs each engine alone (``--only``) under ``valgrind --tool=callgrind`` twice, for 10 and for
+10 + ``--steps`` steps, and divides the difference of the two instruction counts by the extra
+particle-steps: start-up, Taichi's compilation and the warm-up cancel out.
 """
 
 from __future__ import annotations
@@ -226,7 +234,13 @@ def main() -> int:
                         "standard error, and the ratio of each engine's best run)")
     p.add_argument("--check", action="store_true",
                    help="first compare the two engines' displacements and stresses after --steps steps")
+    p.add_argument("--only", choices=("axmpm", "taichi"),
+                   help="run this engine alone (after the warm-up) and print its particle-steps per second")
+    p.add_argument("--count-instructions", action="store_true",
+                   help="instructions per particle-step of each engine, with callgrind (see above)")
     args = p.parse_args()
+    if args.count_instructions:
+        return count_instructions(args.cell_size, args.steps)
 
     from axmpm.bench import bench_scenario
 
@@ -237,8 +251,15 @@ def main() -> int:
 
     resolved = json.loads(scenario.engine_json())
     resolved["materials"] = scenario_dict["materials"]
+    if args.only == "axmpm":
+        print(f"axmpm {measure_axmpm(args.cell_size, args.steps, args.warmup):.6e} particle-steps/s")
+        return 0
     peer = TaichiMPM(sim, resolved)
     n = peer.n
+    if args.only == "taichi":
+        peer.run(args.warmup)
+        print(f"Taichi {args.steps * n / peer.run(args.steps):.6e} particle-steps/s")
+        return 0
     if args.check:
         # Same step, same particles: the two results agree to the order of round-off growth.
         x0 = np.asarray(sim.positions()).copy()
@@ -266,6 +287,55 @@ def main() -> int:
         print(f"run {r + 1}: axmpm {ours / 1e6:6.2f} M particle-steps/s, Taichi {theirs / 1e6:6.2f} M "
               f"particle-steps/s, ratio axmpm/Taichi {ours / theirs:.2f}", flush=True)
     print(summary(ours_runs, theirs_runs))
+    return 0
+
+
+def collected_instructions(valgrind_output: str) -> int:
+    """The instruction count callgrind reports (``==pid== Collected : N``)."""
+    import re
+
+    counts = re.findall(r"Collected\s*:\s*([0-9,]+)", valgrind_output)
+    if not counts:
+        raise ValueError("no 'Collected :' line in the valgrind output")
+    return int(counts[-1].replace(",", ""))
+
+
+def per_particle_step(short: int, long: int, extra_steps: int, particles: int) -> float:
+    """Instructions per particle-step from two counts of the same run that differ by
+    `extra_steps` steps of `particles` particles (everything else cancels)."""
+    if extra_steps <= 0 or particles <= 0:
+        raise ValueError("extra_steps and particles must be positive")
+    return (long - short) / (extra_steps * particles)
+
+
+def count_instructions(cell_size: float, steps: int) -> int:
+    """Each engine alone under callgrind, for 10 and 10 + `steps` steps (see the module doc)."""
+    import shutil
+    import subprocess
+    import sys
+
+    if shutil.which("valgrind") is None:
+        print("--count-instructions needs valgrind on the PATH", file=sys.stderr)
+        return 2
+    _, sim = axmpm_case(cell_size)
+    n = int(sim.num_particles)
+    base = 10
+    result = {}
+    for engine in ("axmpm", "taichi"):
+        counts = []
+        for s in (base, base + steps):
+            command = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null", sys.executable,
+                       __file__, "--only", engine, "--steps", str(s), "--warmup", "2",
+                       "--cell-size", str(cell_size)]
+            run = subprocess.run(command, capture_output=True, text=True)
+            if run.returncode != 0:
+                print(run.stderr[-2000:], file=sys.stderr)
+                return 1
+            counts.append(collected_instructions(run.stderr))
+        result[engine] = per_particle_step(counts[0], counts[1], steps, n)
+        print(f"{engine}: {result[engine]:.1f} instructions per particle-step "
+              f"({counts[0]:,} at {base} steps, {counts[1]:,} at {base + steps}; {n} particles)", flush=True)
+    print(f"instructions Taichi/axmpm: {result['taichi'] / result['axmpm']:.2f}")
     return 0
 
 

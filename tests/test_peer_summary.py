@@ -34,5 +34,23 @@ def test_summary_of_one_pair_has_no_error():
     assert "median 1.25" in text and "±" not in text and "pairs: 1" in text
 
 
+def test_collected_instructions_reads_callgrinds_last_total():
+    peer = load_peer()
+    output = "==12== Events    : Ir\n==12== Collected : 5457664766\n==12==\n==12== I   refs: 5,457,664,766\n"
+    assert peer.collected_instructions(output) == 5457664766
+    assert peer.collected_instructions("==1== Collected : 1,234\n==2== Collected : 99\n") == 99
+    with pytest.raises(ValueError, match="Collected"):
+        peer.collected_instructions("no count here")
+
+
+def test_per_particle_step_divides_the_difference_by_the_extra_particle_steps():
+    peer = load_peer()
+    # 1e6 instructions of start-up, then 450 per particle-step: 10 vs 60 steps of 1000 particles.
+    short, long = 1_000_000 + 450 * 10 * 1000, 1_000_000 + 450 * 60 * 1000
+    assert peer.per_particle_step(short, long, 50, 1000) == 450.0
+    with pytest.raises(ValueError):
+        peer.per_particle_step(short, long, 0, 1000)
+
+
 if __name__ == "__main__":
     pytest.main([__file__])
