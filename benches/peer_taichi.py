@@ -226,7 +226,8 @@ class TaichiMPM:
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--cell-size", type=float, default=0.001, help="m (default 1 mm: 50,000 particles)")
-    p.add_argument("--steps", type=int, default=200)
+    p.add_argument("--steps", type=int, default=None,
+                   help="timed steps (default 200; with --count-instructions the extra steps, default 50)")
     p.add_argument("--warmup", type=int, default=10)
     p.add_argument("--repeats", type=int, default=9,
                    help="alternated runs of each engine (default 9: the ratio of one pair varies by "
@@ -240,7 +241,8 @@ def main() -> int:
                    help="instructions per particle-step of each engine, with callgrind (see above)")
     args = p.parse_args()
     if args.count_instructions:
-        return count_instructions(args.cell_size, args.steps)
+        return count_instructions(args.cell_size, args.steps or 50)
+    args.steps = args.steps or 200
 
     from axmpm.bench import bench_scenario
 
