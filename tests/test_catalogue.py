@@ -49,7 +49,7 @@ def test_a_name_the_engine_does_not_know_is_refused_with_the_choices() -> None:
         "did you mean 'axisymmetric'?",
         "error: simulation.shape_function: must be 'linear', 'ugimp', 'cpgimp' or 'cpdi2' (got 3)",
         "error: materials.sand.model: unknown material model 'mohr_coulmb'; expected one of 'linear_elastic', "
-        "'neo_hookean', 'mohr_coulomb', 'von_mises'; did you mean 'mohr_coulomb'?",
+        "'neo_hookean', 'mohr_coulomb', 'von_mises', 'granular_fluidity'; did you mean 'mohr_coulomb'?",
     ]
 
 

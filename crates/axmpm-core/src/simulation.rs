@@ -147,6 +147,43 @@ impl Scheme {
     }
 }
 
+/// Where the fluidity equation holds g = 0: the grid faces and the walls that are rough
+/// (fixed or frictional; walls that are removed during the run are left out, as are roller
+/// faces and walls, and the axis), see [`crate::solver::FluidityBoundary`].
+fn fluidity_boundary(grid: &GridGeometry, config: &Config, axisymmetric: bool) -> crate::solver::FluidityBoundary {
+    use crate::config::{Axis, Condition, Side};
+    let rough = |c: Condition| matches!(c, Condition::Fixed | Condition::Friction);
+    let b = &config.boundaries;
+    let rough_faces = [
+        rough(b.left.condition) && !axisymmetric,
+        rough(b.right.condition),
+        rough(b.bottom.condition),
+        rough(b.top.condition),
+    ];
+    let walls: Vec<_> = config.walls.iter().filter(|w| rough(w.condition) && w.removal_time.is_none()).collect();
+    let mut rough_wall_cells = Vec::new();
+    if !walls.is_empty() {
+        let [nx, ny] = grid.cells;
+        rough_wall_cells = vec![false; nx * ny];
+        for j in 0..ny {
+            for i in 0..nx {
+                let centre = [grid.origin[0] + (i as f64 + 0.5) * grid.cell_size, grid.origin[1] + (j as f64 + 0.5) * grid.cell_size];
+                rough_wall_cells[j * nx + i] = walls.iter().any(|w| {
+                    let x = centre[match w.axis {
+                        Axis::X => 0,
+                        Axis::Y => 1,
+                    }];
+                    match w.material_side {
+                        Side::Positive => x < w.position,
+                        Side::Negative => x > w.position,
+                    }
+                });
+            }
+        }
+    }
+    crate::solver::FluidityBoundary { rough_faces, rough_wall_cells }
+}
+
 /// Whether `tiles` cover the particle arrays `0..n` in order, each tile non-empty.
 fn tiles_cover(tiles: &[Tile], n: usize) -> bool {
     let mut next = 0;
@@ -247,6 +284,7 @@ impl Simulation {
             axisymmetric,
             isa: crate::solver::Isa::detect(),
             cell_jacobian: materials.iter().any(|m| m.needs_cell_jacobian()),
+            fluidity: materials.iter().any(|m| m.fluidity_slots().is_some()),
         };
         let mut constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.
@@ -271,6 +309,9 @@ impl Simulation {
             timings: Default::default(),
         };
         state.allocate_scratch();
+        if state.parameters.fluidity {
+            state.scratch.fluidity_boundary = fluidity_boundary(&grid, &config, axisymmetric);
+        }
         // threads = 0: as many cores as the problem can use. Below ~10,000 particles per thread
         // the fork/join of each pass costs more than it saves. Results do not depend on it.
         let threads = if threads == 0 {

@@ -11,6 +11,7 @@ use serde_json::{Map, Value};
 use crate::config::MaterialConfig;
 use crate::particles::{DeformationGradient, Stress};
 
+pub mod granular_fluidity;
 pub mod linear_elastic;
 pub mod mohr_coulomb;
 pub mod mu_i;
@@ -19,6 +20,7 @@ pub mod von_mises;
 #[cfg(test)]
 pub mod testing;
 
+pub use granular_fluidity::GranularFluidity;
 pub use linear_elastic::LinearElastic;
 pub use mohr_coulomb::MohrCoulomb;
 pub use mu_i::InertialMohrCoulomb;
@@ -81,6 +83,15 @@ pub trait Material: Send + Sync {
     /// `cell_averaged_disconnection`): the solver then computes the cells' mean J each step.
     fn needs_cell_jacobian(&self) -> bool {
         false
+    }
+
+    /// The state slots `[g, S, D]` of a model with a nonlocal fluidity (granular_fluidity.rs):
+    /// before each step's particle update the solver averages g per background cell and
+    /// writes the five-point Laplacian of the cell means at the particle's cell, split as
+    /// ∇²g = S − D ḡ (S the neighbours' weighted sum, D the cell's own weight, both over h²),
+    /// into the last two slots (the update pass itself, and so every other model, is untouched).
+    fn fluidity_slots(&self) -> Option<[usize; 3]> {
+        None
     }
 
     /// Updates `stress` (and `state`, of length `state_names().len()`) over one step.
@@ -241,6 +252,8 @@ pub const MODELS: &[(&str, ModelBuilder)] = &[
     // An `inertial_friction_angle` makes the friction angle follow μ(I) (mu_i.rs).
     ("mohr_coulomb", mohr_coulomb::build),
     ("von_mises", von_mises::build),
+    // Nonlocal granular fluidity (Henann & Kamrin 2013).
+    ("granular_fluidity", granular_fluidity::build),
 ];
 
 /// Names of the registered models, in registry order.
@@ -285,6 +298,10 @@ mod tests {
         let mut config = MaterialConfig::elastic("x", 1550.0, 1e6, 0.3);
         config.set("friction_angle", 30.0);
         config.set("yield_stress", 1e4);
+        for (key, value) in [("static_friction", 0.38), ("friction_rate", 0.94), ("nonlocal_amplitude", 0.48),
+                             ("grain_diameter", 1e-3), ("grain_density", 2500.0)] {
+            config.set(key, value);
+        }
         for name in model_names() {
             config.model = name.into();
             let m = build("sand", &config).unwrap();
@@ -294,7 +311,7 @@ mod tests {
         config.model = "cam_clay".into();
         assert_eq!(
             build("sand", &config).err().unwrap(),
-            "materials.sand.model: unknown model 'cam_clay' (known: linear_elastic, neo_hookean, mohr_coulomb, von_mises)"
+            "materials.sand.model: unknown model 'cam_clay' (known: linear_elastic, neo_hookean, mohr_coulomb, von_mises, granular_fluidity)"
         );
     }
 

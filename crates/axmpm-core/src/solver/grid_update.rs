@@ -26,33 +26,16 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
         .skip(first_row)
         .take(rows)
         .with_min_len(4)
-        .flat_map_iter(|((((v, v_new), m), p), f)| {
+        .for_each(|((((v, v_new), m), p), f)| {
+            // One row as a plain loop, the node update inlined (not left to the inliner's
+            // heuristics: as a closure called per node it cost 40 % more instructions).
             let c = columns.clone();
-            v[c.clone()].iter_mut().zip(&mut v_new[c.clone()]).zip(&m[c.clone()]).zip(&p[c.clone()]).zip(&f[c])
-        })
-        .for_each(|((((v, v_new), &m), p), f)| {
-            if m > params.mass_threshold {
-                let v0 = [p[0] / m, p[1] / m];
-                let mut a = [0.0; 2];
-                for d in 0..2 {
-                    // Cundall local damping: the unbalanced force is reduced by α|f| against the motion.
-                    let damped = f[d] - params.damping * f[d].abs() * sign(v0[d]);
-                    a[d] = damped / m;
-                }
-                *v = v0;
-                *v_new = [v0[0] + dt * a[0], v0[1] + dt * a[1]];
-            } else if m > 0.0 {
-                // A node lighter than the threshold (a GIMP/CPDI domain barely reaching it):
-                // no force update (f/m would be unbounded), but the velocity of the momentum it
-                // carries, so that it stays consistent with its particles in every stencil
-                // (a rigid translation stays stress-free to round-off: issue #13).
-                *v = [p[0] / m, p[1] / m];
-                *v_new = *v;
-            } else {
-                *v = [0.0; 2];
-                *v_new = [0.0; 2];
+            let row = v[c.clone()].iter_mut().zip(&mut v_new[c.clone()]).zip(&m[c.clone()]).zip(&p[c.clone()]).zip(&f[c]);
+            for ((((v, v_new), &m), p), f) in row {
+                update_node(&params, dt, v, v_new, m, p, f);
             }
         });
+
     // Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
     // field; rigid bodies excepted, see `constraint/rigid_body.rs`), then on v⁺: that
     // correction is the physical one, recorded as the reaction.
@@ -67,6 +50,33 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
     state.constraints.apply_start_of_step(&context, &mut fields.velocity);
     state.constraints.apply(&context, &mut fields.velocity_new, true);
     state.timings.serial += serial_start.elapsed().as_secs_f64();
+}
+
+/// One node: v = p/m and v⁺ = v + Δt a (module doc), or the momentum's velocity alone for a
+/// node lighter than the threshold, or zero for a node without mass.
+#[inline(always)]
+fn update_node(params: &super::StepParameters, dt: f64, v: &mut [f64; 2], v_new: &mut [f64; 2], m: f64, p: &[f64; 2], f: &[f64; 2]) {
+    if m > params.mass_threshold {
+        let v0 = [p[0] / m, p[1] / m];
+        let mut a = [0.0; 2];
+        for d in 0..2 {
+            // Cundall local damping: the unbalanced force is reduced by α|f| against the motion.
+            let damped = f[d] - params.damping * f[d].abs() * sign(v0[d]);
+            a[d] = damped / m;
+        }
+        *v = v0;
+        *v_new = [v0[0] + dt * a[0], v0[1] + dt * a[1]];
+    } else if m > 0.0 {
+        // A node lighter than the threshold (a GIMP/CPDI domain barely reaching it):
+        // no force update (f/m would be unbounded), but the velocity of the momentum it
+        // carries, so that it stays consistent with its particles in every stencil
+        // (a rigid translation stays stress-free to round-off: issue #13).
+        *v = [p[0] / m, p[1] / m];
+        *v_new = *v;
+    } else {
+        *v = [0.0; 2];
+        *v_new = [0.0; 2];
+    }
 }
 
 #[inline(always)]

@@ -38,6 +38,13 @@ DEFAULTS: dict[str, Any] = {
     "inertial_number_scale": 0.279,  # I₀ (Jop, Forterre & Pouliquen 2006, glass beads)
     "grain_diameter": GRAIN_DIAMETER,  # m, d in I
     "grain_density": 2500.0,  # kg/m³, glass (PHYSICS.md §6)
+    # The material model: "mohr_coulomb" (with the keys above) or "granular_fluidity", the
+    # nonlocal granular fluidity of Henann & Kamrin 2013 (granular_fluidity.rs), with its
+    # glass-bead μ_s, b and A below and grain_diameter, grain_density above.
+    "material_model": "mohr_coulomb",
+    "static_friction": 0.3819,  # μ_s (granular_fluidity; Jop et al. 2006 via Henann & Kamrin 2013)
+    "friction_rate": 0.9377,  # b (granular_fluidity; Henann & Kamrin 2013)
+    "nonlocal_amplitude": 0.48,  # A (granular_fluidity; Henann & Kamrin 2013)
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
@@ -105,6 +112,10 @@ def collapse_scenario(
     inertial_number_scale: float = DEFAULTS["inertial_number_scale"],
     grain_diameter: float = DEFAULTS["grain_diameter"],
     grain_density: float = DEFAULTS["grain_density"],
+    material_model: str = DEFAULTS["material_model"],
+    static_friction: float = DEFAULTS["static_friction"],
+    friction_rate: float = DEFAULTS["friction_rate"],
+    nonlocal_amplitude: float = DEFAULTS["nonlocal_amplitude"],
     base_friction: float | None = DEFAULTS["base_friction"],
     shape_function: str = DEFAULTS["shape_function"],
     update_scheme: str = DEFAULTS["update_scheme"],
@@ -132,6 +143,8 @@ def collapse_scenario(
     """
     from ...scenario import Scenario
 
+    if material_model not in ("mohr_coulomb", "granular_fluidity"):
+        raise ValueError(f"material_model: must be 'mohr_coulomb' or 'granular_fluidity' (got {material_model!r})")
     h = float(cell_size)
     n_r = max(1, int(round(radius / h)))
     H = aspect_ratio * n_r * h if height is None else float(height)
@@ -190,6 +203,16 @@ def collapse_scenario(
                  "cell_size": h},
         "materials": {
             "sand": {
+                "model": "granular_fluidity",
+                "density": density,
+                "youngs_modulus": youngs_modulus,
+                "poisson_ratio": poisson_ratio,
+                "static_friction": static_friction,
+                "friction_rate": friction_rate,
+                "nonlocal_amplitude": nonlocal_amplitude,
+                "grain_diameter": grain_diameter,
+                "grain_density": grain_density,
+            } if material_model == "granular_fluidity" else {
                 "model": "mohr_coulomb",
                 "density": density,
                 "youngs_modulus": youngs_modulus,
@@ -217,7 +240,9 @@ def collapse_scenario(
                 "max": [R_i, H_i],
                 "particles_per_cell": particles_per_cell,
                 "initial_stress": "geostatic",
-                "k0": 1.0 - math.sin(math.radians(friction_angle)),
+                # Jaky's k0 = 1 − sin φ (the fluidity model: sin φ_s = μ_s).
+                "k0": 1.0 - (static_friction if material_model == "granular_fluidity"
+                             else math.sin(math.radians(friction_angle))),
             }
         ],
         "boundaries": {
