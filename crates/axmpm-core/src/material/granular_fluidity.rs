@@ -55,7 +55,7 @@
 //!   stored (complementary) elastic energy W_e, so that the model leaves no residual of its own
 //!   in the energy budget (the frictional dissipation; separation releases the stored energy).
 
-use super::{jaumann_rotation, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
+use super::{p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
 use crate::particles::Stress;
 
 const STATE_NAMES: [&str; 5] =
@@ -203,14 +203,8 @@ impl Material for GranularFluidity {
         let g = self.relax_fluidity(state[FLUIDITY_SLOT], state[NEIGHBOUR_SUM_SLOT], state[DIAGONAL_SLOT], stress);
         state[FLUIDITY_SLOT] = g;
         let start = *stress;
-        // Elastic predictor: LinearElastic::update_stress, operation for operation.
-        let (d, spin) = rate_of_deformation(&k.velocity_gradient);
-        let de = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
-        let rot = jaumann_rotation(stress, spin, k.dt);
-        let inc = self.elastic.elastic_increment(&de);
-        for c in 0..4 {
-            stress[c] += inc[c] + rot[c];
-        }
+        // Elastic predictor: the linear-elastic Jaumann step itself.
+        self.elastic.update_stress(stress, &mut [], k);
         let p = -(stress[0] + stress[1] + stress[2]) / 3.0;
         if p > 0.0 && !(g > 0.0) {
             return; // elastic
@@ -234,7 +228,8 @@ impl Material for GranularFluidity {
         // model adds no residual of its own to the energy budget. (The end-point rule
         // τ Δγᵖ and the mid-point rule (τ_tr² − τ²)/(2G) are the two limits of this: G Δt g/p
         // ≫ 1, where the elastic strain of one step is larger than the material keeps, and ≪ 1.)
-        let power = start[0] * de[0] + start[1] * de[1] + start[2] * de[2] + 2.0 * start[3] * de[3];
+        let (d, _) = rate_of_deformation(&k.velocity_gradient);
+        let power = k.dt * (start[0] * d[0] + start[1] * d[1] + start[2] * d[2] + 2.0 * start[3] * d[3]);
         let stored = self.elastic_energy_density(stress) - self.elastic_energy_density(&start);
         state[WORK_SLOT] += k.jacobian * (power - stored);
     }

@@ -35,7 +35,6 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
                 update_node(&params, dt, v, v_new, m, p, f);
             }
         });
-
     // Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
     // field; rigid bodies excepted, see `constraint/rigid_body.rs`), then on v⁺: that
     // correction is the physical one, recorded as the reaction.

@@ -128,7 +128,6 @@ fn move_particle<F: Formulation, S: ShapeFunction>(
     } else {
         Some(inputs.cell_jacobian[grid.cell_index(*u.position)])
     };
-
     let dt = inputs.dt;
     // F ← (I + Δt L) F in-plane; F33 ← (1 + Δt L33) F33.
     let f = u.f;
