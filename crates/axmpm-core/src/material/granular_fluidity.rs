@@ -420,6 +420,32 @@ mod tests {
     }
 
     #[test]
+    fn zero_pressure_is_separated_material() {
+        // p = 0 exactly counts as separated, not as flowing: the fluidity halves (μ = τ/p is
+        // undefined there), the deviator is released whether g is 0 or not, and no shear strain
+        // is booked.
+        let m = beads(0.48);
+        assert_eq!(m.relax_fluidity(2.0, 1e9, 1e6, &[0.0; 4]), 1.0);
+        let k = kinematics([0.0; 5], 1e-3);
+        for g in [0.0, 40.0] {
+            let mut stress = [0.0, 0.0, 0.0, 25.0];
+            let mut state = [2.0 * g, 0.0, 0.0, 0.0, 0.0];
+            m.update_stress(&mut stress, &mut state, &k);
+            assert_eq!(state[0], g);
+            assert_eq!(stress, [0.0; 4], "g = {g}");
+            assert_eq!(state[3], 0.0, "g = {g}");
+            assert!(state[4] > 0.0, "the released elastic energy is dissipated (g = {g})");
+        }
+    }
+
+    #[test]
+    fn wave_speed_is_the_elastic_p_wave_speed() {
+        // c = √((λ + 2G)/ρ) = √(E (1 − ν) / ((1 + ν)(1 − 2ν) ρ)).
+        let c = (1e6f64 * 0.7 / (1.3 * 0.4 * 1550.0)).sqrt();
+        assert!((beads(0.48).wave_speed() - c).abs() < 1e-12 * c);
+    }
+
+    #[test]
     fn registry_builds_it_by_name_and_names_bad_keys() {
         use serde_json::json;
         let table = json!({"density": 1550.0, "youngs_modulus": 1e6, "poisson_ratio": 0.3, "static_friction": 0.3819,
@@ -435,6 +461,7 @@ mod tests {
             ("static_friction", 0.0, "must be > 0 (got 0)"),
             ("grain_diameter", -1e-3, "must be > 0 m (got -0.001)"),
             ("poisson_ratio", 0.5, "must be in (-1, 0.5) (got 0.5)"),
+            ("poisson_ratio", -1.0, "must be in (-1, 0.5) (got -1)"),
         ] {
             let mut bad = table.clone();
             bad[key] = json!(value);
