@@ -307,6 +307,8 @@ mod tests {
             let m = build("sand", &config).unwrap();
             assert_eq!(m.model(), name);
             assert_eq!(m.density(), 1550.0);
+            // Only the nonlocal model asks the solver for the fluidity Laplacian.
+            assert_eq!(m.fluidity_slots().is_some(), name == "granular_fluidity", "{name}");
         }
         config.model = "cam_clay".into();
         assert_eq!(
