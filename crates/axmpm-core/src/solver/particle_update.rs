@@ -1118,4 +1118,31 @@ mod tests {
         let l = laplacian_of::<PlaneStrain>(&grid, &particles, &crate::solver::FluidityBoundary::default());
         assert!((l[0] - 3.0 / h2).abs() < 1e-9 && (l[1] + 3.0 * 3.0 / h2).abs() < 1e-9 && (l[2] - 3.0 / h2).abs() < 1e-9, "{:?}", &l[..3]);
     }
+
+    #[test]
+    fn axisymmetric_rough_boundaries_weigh_the_face_by_its_radius() {
+        // In axisymmetry a radial face of radius r_f counts r_f / r_c: a rough wall or grid face
+        // to the east of a cell centred at r_c removes 2ḡ (r_c + h/2)/(r_c h²).
+        let grid = GridGeometry::new([0.0, 0.0], [0.5, 0.2], 0.1); // 5 × 2 cells
+        let h2 = 0.01;
+        let east = |i: f64| (i + 1.0) / (i + 0.5); // (r_c + h/2) / r_c at r_c = (i + ½) h
+        // The block fills cells i ≤ 1 behind a rough wall over i ≥ 2.
+        let particles = fluidity_cloud(&grid, |i, _| i < 2, |_| 2.0);
+        let mut wall_cells = vec![false; 10];
+        for c in [2, 3, 4, 7, 8, 9] {
+            wall_cells[c] = true;
+        }
+        let wall = crate::solver::FluidityBoundary { rough_faces: [false; 4], rough_wall_cells: wall_cells };
+        let l = laplacian_of::<Axisymmetric>(&grid, &particles, &wall);
+        for (c, expected) in [(0, 0.0), (1, -2.0 * 2.0 * east(1.0) / h2), (5, 0.0), (6, -2.0 * 2.0 * east(1.0) / h2)] {
+            assert!((l[c] - expected).abs() < 1e-9, "wall, cell {c}: {} vs {expected}", l[c]);
+        }
+        // The whole grid filled, its right face rough: the last column (i = 4) loses 2ḡ r_f/r_c.
+        let particles = fluidity_cloud(&grid, |_, _| true, |_| 2.0);
+        let right = crate::solver::FluidityBoundary { rough_faces: [false, true, false, false], ..Default::default() };
+        let l = laplacian_of::<Axisymmetric>(&grid, &particles, &right);
+        for (c, expected) in [(3, 0.0), (4, -2.0 * 2.0 * east(4.0) / h2), (9, -2.0 * 2.0 * east(4.0) / h2)] {
+            assert!((l[c] - expected).abs() < 1e-9, "face, cell {c}: {} vs {expected}", l[c]);
+        }
+    }
 }
