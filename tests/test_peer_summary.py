@@ -54,3 +54,17 @@ def test_per_particle_step_divides_the_difference_by_the_extra_particle_steps():
 
 if __name__ == "__main__":
     pytest.main([__file__])
+
+
+def test_check_tells_round_off_from_a_different_step():
+    peer = load_peer()
+    scale = 2.0e4  # Pa, the largest stress
+    # Round-off after 300 steps (measured 1.4e-17 m, 1.9e-15 of the stress) passes...
+    assert peer.same_step(1.4e-17, 1.9e-15 * scale, scale)
+    # ...a different boundary rule in the re-map (8.4e-8 m, 0.9 % after 50 steps) does not,
+    assert not peer.same_step(8.4e-8, 9.2e-3 * scale, scale)
+    # nor a stress difference alone, a position difference alone, or NaN.
+    assert not peer.same_step(1e-17, 1e-6 * scale, scale)
+    assert not peer.same_step(1e-9, 0.0, scale)
+    assert not peer.same_step(math.nan, 0.0, scale)
+    assert peer.same_step(peer.CHECK_POSITION_TOLERANCE, peer.CHECK_STRESS_TOLERANCE * scale, scale)
