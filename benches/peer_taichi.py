@@ -161,8 +161,6 @@ class TaichiMPM:
                 else:
                     gv[i, j] = ti.Vector([0.0, 0.0])
                     gv_new[i, j] = ti.Vector([0.0, 0.0])
-                    if j == 0:
-                        held[i] = 0
 
         @ti.kernel
         def g2p_and_remap():

@@ -52,10 +52,6 @@ def test_per_particle_step_divides_the_difference_by_the_extra_particle_steps():
         peer.per_particle_step(short, long, 0, 1000)
 
 
-if __name__ == "__main__":
-    pytest.main([__file__])
-
-
 def test_check_tells_round_off_from_a_different_step():
     peer = load_peer()
     scale = 2.0e4  # Pa, the largest stress
@@ -68,3 +64,7 @@ def test_check_tells_round_off_from_a_different_step():
     assert not peer.same_step(1e-9, 0.0, scale)
     assert not peer.same_step(math.nan, 0.0, scale)
     assert peer.same_step(peer.CHECK_POSITION_TOLERANCE, peer.CHECK_STRESS_TOLERANCE * scale, scale)
+
+
+if __name__ == "__main__":
+    pytest.main([__file__])
