@@ -49,7 +49,8 @@ def test_a_name_the_engine_does_not_know_is_refused_with_the_choices() -> None:
         "did you mean 'axisymmetric'?",
         "error: simulation.shape_function: must be 'linear', 'ugimp', 'cpgimp' or 'cpdi2' (got 3)",
         "error: materials.sand.model: unknown material model 'mohr_coulmb'; expected one of 'linear_elastic', "
-        "'neo_hookean', 'mohr_coulomb', 'von_mises', 'granular_fluidity'; did you mean 'mohr_coulomb'?",
+        "'neo_hookean', 'mohr_coulomb', 'von_mises', 'granular_fluidity', 'drucker_prager'; did you mean "
+        "'mohr_coulomb'?",
     ]
 
 
@@ -58,6 +59,7 @@ def test_a_name_the_engine_does_not_know_is_refused_with_the_choices() -> None:
     ("neo_hookean", {}, 0.25 / 0.75),
     ("mohr_coulomb", {"friction_angle": 30.0}, 0.5),
     ("von_mises", {"yield_stress": 4e8}, 0.25 / 0.75),
+    ("drucker_prager", {"friction": 0.4}, 0.6),
 ])
 def test_k0_default_is_the_models(model: str, extra: dict, k0: float) -> None:
     material = MATERIAL_MODELS[model](model=model, density=1000.0, youngs_modulus=1e6, poisson_ratio=0.25, **extra)

@@ -137,6 +137,19 @@ def test_builder_critical_packing_fraction():
     assert sand.cell_averaged_disconnection is True
 
 
+def test_builder_material_models():
+    # Drucker–Prager at the avalanche angle of the beads (Rousseau et al. 2023), k0 = 1 − μ.
+    sc = collapse_scenario(0.8, material_model="drucker_prager")
+    sand = sc.materials["sand"]
+    assert sand.model == "drucker_prager" and sand.friction == pytest.approx(math.tan(math.radians(27.4)))
+    assert sc.bodies[0].k0 == pytest.approx(1.0 - sand.friction)
+    assert collapse_scenario(0.8, material_model="drucker_prager", friction_coefficient=0.4).bodies[0].k0 == 0.6
+    assert collapse_scenario(0.8, material_model="granular_fluidity").bodies[0].k0 == pytest.approx(1.0 - 0.3819)
+    with pytest.raises(ValueError, match="material_model: must be 'mohr_coulomb', 'granular_fluidity' or "
+                                         "'drucker_prager' \\(got 'cam_clay'\\)"):
+        collapse_scenario(0.8, material_model="cam_clay")
+
+
 def test_examples_match_builder():
     from axmpm.scenario import Scenario
 

@@ -289,3 +289,40 @@ def test_cell_averaged_disconnection_needs_the_critical_packing():
     text = str(info.value)
     assert "cell_averaged_disconnection" in text and "needs critical_packing_fraction" in text, text
     validate_material(disconnecting(cell_averaged_disconnection=True))  # accepted with it
+
+
+# --------------------------------------------------------------------------- Drucker–Prager
+
+
+def dp(mu=math.tan(math.radians(27.4))):
+    return dict(model="drucker_prager", density=1550.0, youngs_modulus=E, poisson_ratio=NU, friction=mu)
+
+
+@pytest.mark.parametrize("rate", [0.1, 10.0])
+def test_drucker_prager_simple_shear_flows_at_its_friction_at_any_rate(rate):
+    # Simple shear (L12 = rate) from an isotropic pressure: τ = √(½ s:s) rises elastically to
+    # μ p and stays there; p does not change (isochoric flow, no elastic volume change).
+    p, mu = 800.0, math.tan(math.radians(27.4))
+    steps = 2000
+    dt = 0.02 / rate / steps  # a total shear of 0.02, 27 × the elastic strain μ p / G
+    L = np.zeros((steps, 5))
+    L[:, 1] = rate
+    out = material_point(dp(mu), L, dt, [-p, -p, -p, 0.0])
+    s = out.stresses
+    pressure = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3
+    dev = s[:, :3] + pressure[:, None]
+    tau = np.sqrt(0.5 * (dev ** 2).sum(axis=1) + s[:, 3] ** 2)
+    np.testing.assert_allclose(pressure, p, rtol=1e-9)
+    assert tau.max() == pytest.approx(mu * p, rel=1e-9)  # never above the cone
+    np.testing.assert_allclose(tau[-steps // 2:], mu * p, rtol=1e-9)  # flowing on it
+    work = out.state("plastic_work")
+    assert np.all(np.diff(work) >= -1e-12) and work[-1] > 0.0
+
+
+def test_drucker_prager_is_stress_free_in_tension_and_names_a_bad_friction():
+    out = material_point(dp(), np.tile([1.0, 0.0, 0.0, 1.0, 1.0], (3, 1)), 1e-3, [-100.0, -100.0, -100.0, 10.0])
+    np.testing.assert_array_equal(out.stresses, 0.0)
+    for bad in (0.0, 1.0, -0.2):
+        with pytest.raises(ScenarioError) as err:
+            validate_material(dp(bad))
+        assert "friction" in str(err.value)

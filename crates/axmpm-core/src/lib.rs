@@ -44,7 +44,7 @@ mod tests {
         let c = catalogue();
         assert_eq!(c["formulations"], ["plane_strain", "axisymmetric"]);
         assert_eq!(c["interpolation_schemes"], ["linear", "ugimp", "cpgimp", "cpdi2"]);
-        assert_eq!(c["material_models"], ["linear_elastic", "neo_hookean", "mohr_coulomb", "von_mises", "granular_fluidity"]);
+        assert_eq!(c["material_models"], ["linear_elastic", "neo_hookean", "mohr_coulomb", "von_mises", "granular_fluidity", "drucker_prager"]);
         assert_eq!(c["region_shapes"], ["rectangle", "polygon"]);
         // The names are the ones serde reads in a scenario.
         for f in config::FormulationKind::ALL {

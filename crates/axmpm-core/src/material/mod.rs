@@ -11,6 +11,7 @@ use serde_json::{Map, Value};
 use crate::config::MaterialConfig;
 use crate::particles::{DeformationGradient, Stress};
 
+pub mod drucker_prager;
 pub mod granular_fluidity;
 pub mod linear_elastic;
 pub mod mohr_coulomb;
@@ -20,6 +21,7 @@ pub mod von_mises;
 #[cfg(test)]
 pub mod testing;
 
+pub use drucker_prager::DruckerPrager;
 pub use granular_fluidity::GranularFluidity;
 pub use linear_elastic::LinearElastic;
 pub use mohr_coulomb::MohrCoulomb;
@@ -254,6 +256,8 @@ pub const MODELS: &[(&str, ModelBuilder)] = &[
     ("von_mises", von_mises::build),
     // Nonlocal granular fluidity (Henann & Kamrin 2013).
     ("granular_fluidity", granular_fluidity::build),
+    // Rate-independent Drucker–Prager (Rousseau et al. 2023's constant-friction rheology).
+    ("drucker_prager", drucker_prager::build),
 ];
 
 /// Names of the registered models, in registry order.
@@ -298,6 +302,7 @@ mod tests {
         let mut config = MaterialConfig::elastic("x", 1550.0, 1e6, 0.3);
         config.set("friction_angle", 30.0);
         config.set("yield_stress", 1e4);
+        config.set("friction", 0.52);
         for (key, value) in [("static_friction", 0.38), ("friction_rate", 0.94), ("nonlocal_amplitude", 0.48),
                              ("grain_diameter", 1e-3), ("grain_density", 2500.0)] {
             config.set(key, value);
@@ -313,7 +318,7 @@ mod tests {
         config.model = "cam_clay".into();
         assert_eq!(
             build("sand", &config).err().unwrap(),
-            "materials.sand.model: unknown model 'cam_clay' (known: linear_elastic, neo_hookean, mohr_coulomb, von_mises, granular_fluidity)"
+            "materials.sand.model: unknown model 'cam_clay' (known: linear_elastic, neo_hookean, mohr_coulomb, von_mises, granular_fluidity, drucker_prager)"
         );
     }
 

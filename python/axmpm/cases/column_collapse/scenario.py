@@ -45,6 +45,10 @@ DEFAULTS: dict[str, Any] = {
     "static_friction": 0.3819,  # μ_s (granular_fluidity; Jop et al. 2006 via Henann & Kamrin 2013)
     "friction_rate": 0.9377,  # b (granular_fluidity; Henann & Kamrin 2013)
     "nonlocal_amplitude": 0.48,  # A (granular_fluidity; Henann & Kamrin 2013)
+    # "drucker_prager" (drucker_prager.rs): the constant-friction cone τ = μ p; Rousseau et al.
+    # (2023) set μ to the tangent of the avalanche angle, 27.4° for Lajeunesse et al.'s beads
+    # (PHYSICS §6a via Kumar 2015, medium confidence).
+    "friction_coefficient": math.tan(math.radians(27.4)),
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
@@ -116,6 +120,7 @@ def collapse_scenario(
     static_friction: float = DEFAULTS["static_friction"],
     friction_rate: float = DEFAULTS["friction_rate"],
     nonlocal_amplitude: float = DEFAULTS["nonlocal_amplitude"],
+    friction_coefficient: float = DEFAULTS["friction_coefficient"],
     base_friction: float | None = DEFAULTS["base_friction"],
     shape_function: str = DEFAULTS["shape_function"],
     update_scheme: str = DEFAULTS["update_scheme"],
@@ -143,8 +148,9 @@ def collapse_scenario(
     """
     from ...scenario import Scenario
 
-    if material_model not in ("mohr_coulomb", "granular_fluidity"):
-        raise ValueError(f"material_model: must be 'mohr_coulomb' or 'granular_fluidity' (got {material_model!r})")
+    if material_model not in ("mohr_coulomb", "granular_fluidity", "drucker_prager"):
+        raise ValueError("material_model: must be 'mohr_coulomb', 'granular_fluidity' or 'drucker_prager' "
+                         f"(got {material_model!r})")
     h = float(cell_size)
     n_r = max(1, int(round(radius / h)))
     H = aspect_ratio * n_r * h if height is None else float(height)
@@ -213,6 +219,12 @@ def collapse_scenario(
                 "grain_diameter": grain_diameter,
                 "grain_density": grain_density,
             } if material_model == "granular_fluidity" else {
+                "model": "drucker_prager",
+                "density": density,
+                "youngs_modulus": youngs_modulus,
+                "poisson_ratio": poisson_ratio,
+                "friction": friction_coefficient,
+            } if material_model == "drucker_prager" else {
                 "model": "mohr_coulomb",
                 "density": density,
                 "youngs_modulus": youngs_modulus,
@@ -240,8 +252,9 @@ def collapse_scenario(
                 "max": [R_i, H_i],
                 "particles_per_cell": particles_per_cell,
                 "initial_stress": "geostatic",
-                # Jaky's k0 = 1 − sin φ (the fluidity model: sin φ_s = μ_s).
+                # Jaky's k0 = 1 − sin φ (the fluidity and cone models: sin φ = μ).
                 "k0": 1.0 - (static_friction if material_model == "granular_fluidity"
+                             else friction_coefficient if material_model == "drucker_prager"
                              else math.sin(math.radians(friction_angle))),
             }
         ],

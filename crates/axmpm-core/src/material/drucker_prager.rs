@@ -1,0 +1,329 @@
+//! Rate-independent Drucker–Prager plasticity for dry, cohesionless granular matter: the
+//! constant-friction rheology τ ≤ μ p that Rousseau et al. (2023, *Revisiting the role of
+//! friction coefficients in granular collapses: confrontation of 3-D non-smooth simulations
+//! with experiments*, JFM) found to reproduce granular collapses with μ set to the tangent of
+//! the material's *avalanche* (start) angle rather than its stop angle. docs/physics.md §6c.
+//!
+//! # Law
+//!
+//! With p = −tr σ / 3, the deviator s = σ + p I and τ = √(½ s:s) (3D, the hoop or out-of-plane
+//! component included; in simple shear with equal normal stresses τ is the shear stress, so a
+//! layer on an incline flows at tan θ = μ):
+//!
+//! ```text
+//! yield surface     τ = μ p             (a cone about the hydrostatic axis, no Lode-angle term)
+//! plastic flow      Dᵖ ∥ s              (isochoric: no dilatancy, the critical state)
+//! tension           p ≤ 0 → σ = 0       (grains that separate carry no stress)
+//! ```
+//!
+//! # Update (one step)
+//!
+//! 1. Elastic predictor: the linear-elastic Jaumann step of [`LinearElastic`].
+//! 2. If p_tr ≤ 0 the material is stress-free. If τ_tr ≤ μ p_tr the step is elastic. Otherwise
+//!    the deviator is scaled onto the cone at fixed pressure, s = s_tr μ p_tr / τ_tr: the
+//!    backward-Euler (closest-point) return of an isochoric flow rule, exact in one step
+//!    because the pressure does not change during the return. It is the rate-independent limit
+//!    b → 0 of the granular fluidity model's local law (granular_fluidity.rs), solved
+//!    implicitly instead of through a start-of-step fluidity.
+//!
+//! # Dilute material and the time step
+//!
+//! As in mohr_coulomb.rs ("Dilute material and the time step"): the moduli are those of the
+//! material as placed, so a particle dilated stress-free to J ≫ 1 and then re-loaded has the
+//! P-wave speed c0 √J, beyond what the explicit step keeps stable. Above
+//! J_s = max(1, (c_max/c0)²) ([`Material::limit_wave_speed`]) the moduli of the trial are
+//! scaled by J_s/J (a granular gas has no contact network, so any stiffness below the
+//! material's as placed is admissible). Up to J_s the update is the plain one, bit for bit.
+//!
+//! # State variables
+//!
+//! - `plastic_shear_strain`: Σ Δγᵖ, Δγᵖ = (τ_tr − τ)/G of each return (the shear strain the
+//!   deviator gave up).
+//! - `plastic_work`: per unit reference volume, J/m³: Σ J (σ_n : Δε − ΔW_e) over the steps that
+//!   flow or separate, the start-of-step stress power less the change of the stored
+//!   (complementary) elastic energy W_e, so that the model adds no residual of its own to the
+//!   energy budget (as granular_fluidity.rs).
+
+use super::{jaumann_rotation, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
+use crate::particles::Stress;
+
+const STATE_NAMES: [&str; 2] = ["plastic_shear_strain", "plastic_work"];
+const SHEAR_STRAIN_SLOT: usize = 0;
+const WORK_SLOT: usize = 1;
+
+/// The Drucker–Prager model (module doc).
+#[derive(Clone, Debug)]
+pub struct DruckerPrager {
+    /// The elastic part (the predictor is its step).
+    pub elastic: LinearElastic,
+    /// μ, the friction coefficient τ/p of the yield cone.
+    pub friction: f64,
+    /// G, Pa.
+    shear_modulus: f64,
+    /// J above which the moduli are scaled by `stable_jacobian / J` (module doc, "Dilute
+    /// material"); ∞ = never (set by [`Material::limit_wave_speed`]).
+    pub stable_jacobian: f64,
+}
+
+impl DruckerPrager {
+    pub fn new(density: f64, youngs_modulus: f64, poisson_ratio: f64, friction: f64) -> Self {
+        Self {
+            elastic: LinearElastic::new(density, youngs_modulus, poisson_ratio),
+            friction,
+            shear_modulus: youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
+            stable_jacobian: f64::INFINITY,
+        }
+    }
+
+    /// From a `drucker_prager` table; every key is required (the scenario front end fills the
+    /// documented defaults). Errors name `materials.NAME.KEY` and the allowed range.
+    pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
+        let positive = |key: &str, unit: &str| -> Result<f64, String> {
+            let v = p.f64(key)?;
+            if v > 0.0 && v.is_finite() {
+                Ok(v)
+            } else {
+                Err(p.error(key, format!("must be > 0{unit} (got {v})")))
+            }
+        };
+        let density = positive("density", " kg/m³")?;
+        let youngs_modulus = positive("youngs_modulus", " Pa")?;
+        let poisson_ratio = p.f64("poisson_ratio")?;
+        if !(poisson_ratio > -1.0 && poisson_ratio < 0.5) {
+            return Err(p.error("poisson_ratio", format!("must be in (-1, 0.5) (got {poisson_ratio})")));
+        }
+        let friction = positive("friction", "")?;
+        Ok(Self::new(density, youngs_modulus, poisson_ratio, friction))
+    }
+
+    /// p = −tr σ / 3 and τ = √(½ s:s) of a stress.
+    #[inline(always)]
+    pub fn pressure_and_shear(stress: &Stress) -> (f64, f64) {
+        let p = -(stress[0] + stress[1] + stress[2]) / 3.0;
+        let (s0, s1, s2) = (stress[0] + p, stress[1] + p, stress[2] + p);
+        (p, (0.5 * (s0 * s0 + s1 * s1 + s2 * s2) + stress[3] * stress[3]).sqrt())
+    }
+}
+
+/// The registry's builder ([`super::MODELS`]).
+pub fn build(p: &Parameters) -> Result<Box<dyn Material>, String> {
+    Ok(Box::new(DruckerPrager::from_parameters(p)?))
+}
+
+impl Material for DruckerPrager {
+    fn model(&self) -> &'static str {
+        "drucker_prager"
+    }
+    fn density(&self) -> f64 {
+        self.elastic.density
+    }
+    fn wave_speed(&self) -> f64 {
+        p_wave_speed(self.elastic.youngs_modulus, self.elastic.poisson_ratio, self.elastic.density)
+    }
+    fn state_names(&self) -> &'static [&'static str] {
+        &STATE_NAMES
+    }
+    fn elastic_energy_density(&self, stress: &Stress) -> f64 {
+        super::complementary_energy(stress, self.elastic.youngs_modulus, self.elastic.poisson_ratio)
+    }
+
+    fn limit_wave_speed(&mut self, max_wave_speed: f64) {
+        // c(J) = c0 √J: c(J) ≤ max_wave_speed up to J = (max_wave_speed/c0)², never below 1.
+        let ratio = max_wave_speed / self.wave_speed();
+        self.stable_jacobian = if ratio.is_finite() { (ratio * ratio).max(1.0) } else { f64::INFINITY };
+    }
+
+    #[inline(always)]
+    fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
+        let start = *stress;
+        // Elastic predictor: the linear-elastic Jaumann step, with the moduli scaled by
+        // s = J_s/J for dilute material (module doc).
+        let (d, spin) = rate_of_deformation(&k.velocity_gradient);
+        let stiffness = if k.jacobian > self.stable_jacobian { self.stable_jacobian / k.jacobian } else { 1.0 };
+        let de = [d[0] * k.dt * stiffness, d[1] * k.dt * stiffness, d[2] * k.dt * stiffness, d[3] * k.dt * stiffness];
+        let rot = jaumann_rotation(stress, spin, k.dt);
+        let inc = self.elastic.elastic_increment(&de);
+        for c in 0..4 {
+            stress[c] += inc[c] + rot[c];
+        }
+        let (p, tau) = Self::pressure_and_shear(stress);
+        if p > 0.0 {
+            let strength = self.friction * p;
+            if tau <= strength {
+                return; // elastic
+            }
+            // Closest-point return at fixed p: s = s_tr μ p / τ_tr.
+            let scale = strength / tau;
+            for c in 0..3 {
+                stress[c] = -p + scale * (stress[c] + p);
+            }
+            stress[3] *= scale;
+            state[SHEAR_STRAIN_SLOT] += (tau - strength) / (stiffness * self.shear_modulus);
+        } else {
+            // Tension: the grains separate, stress-free.
+            *stress = [0.0; 4];
+        }
+        let power = k.dt * (start[0] * d[0] + start[1] * d[1] + start[2] * d[2] + 2.0 * start[3] * d[3]);
+        let stored = self.elastic_energy_density(stress) - self.elastic_energy_density(&start);
+        state[WORK_SLOT] += k.jacobian * (power - stored);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::material::testing::{kinematics, MaterialPoint};
+
+    /// Glass beads at the avalanche angle of Lajeunesse et al.'s beads, tan 27.4°.
+    fn beads() -> DruckerPrager {
+        DruckerPrager::new(1550.0, 1e6, 0.3, 27.4f64.to_radians().tan())
+    }
+
+    fn power(start: &Stress, k: &Kinematics) -> f64 {
+        let (d, _) = rate_of_deformation(&k.velocity_gradient);
+        k.dt * (start[0] * d[0] + start[1] * d[1] + start[2] * d[2] + 2.0 * start[3] * d[3])
+    }
+
+    #[test]
+    fn below_the_cone_the_step_is_the_elastic_one() {
+        let m = beads();
+        let elastic = LinearElastic::new(1550.0, 1e6, 0.3);
+        let (mut s_dp, mut s_elastic) = ([-500.0, -400.0, -450.0, 100.0], [-500.0, -400.0, -450.0, 100.0]);
+        let mut state = [0.0; 2];
+        let k = kinematics([1e-3, 2e-3, 0.0, -1e-3, 0.0], 1e-3);
+        for _ in 0..10 {
+            m.update_stress(&mut s_dp, &mut state, &k);
+            elastic.update_stress(&mut s_elastic, &mut [], &k);
+        }
+        assert_eq!(s_dp, s_elastic);
+        assert_eq!(state, [0.0; 2]);
+    }
+
+    #[test]
+    fn a_return_lands_on_the_cone_at_the_trial_pressure_along_the_trial_deviator() {
+        let m = beads();
+        let elastic = LinearElastic::new(1550.0, 1e6, 0.3);
+        let start = [-480.0, -530.0, -490.0, 260.0];
+        let (mut stress, mut trial) = (start, start);
+        let mut state = [0.1, 2.0];
+        let k = Kinematics { jacobian: 0.97, ..kinematics([2.0, 30.0, -5.0, -1.0, 0.5], 2e-5) };
+        m.update_stress(&mut stress, &mut state, &k);
+        elastic.update_stress(&mut trial, &mut [], &k);
+        let (p_trial, tau_trial) = DruckerPrager::pressure_and_shear(&trial);
+        let (p, tau) = DruckerPrager::pressure_and_shear(&stress);
+        assert!(tau_trial > m.friction * p_trial, "the trial must be outside the cone");
+        assert!((p - p_trial).abs() < 1e-12 * p);
+        assert!((tau - m.friction * p).abs() < 1e-12 * tau, "τ/p = {} vs μ = {}", tau / p, m.friction);
+        let scale = tau / tau_trial;
+        for c in 0..3 {
+            assert!(((stress[c] + p) - scale * (trial[c] + p)).abs() < 1e-9, "component {c}");
+        }
+        assert!((stress[3] - scale * trial[3]).abs() < 1e-12);
+        let g_modulus = 1e6 / 2.6;
+        assert!((state[0] - 0.1 - (tau_trial - tau) / g_modulus).abs() < 1e-15);
+        let w = |s: &Stress| crate::material::complementary_energy(s, 1e6, 0.3);
+        let expected = 0.97 * (power(&start, &k) - (w(&stress) - w(&start)));
+        let dissipated = state[1] - 2.0;
+        assert!(dissipated > 0.0 && (dissipated - expected).abs() < 1e-12 * dissipated, "{dissipated} vs {expected}");
+    }
+
+    #[test]
+    fn steady_simple_shear_flows_at_the_friction_coefficient_whatever_the_rate() {
+        // Homogeneous simple shear at constant pressure: the shear stress rises elastically to
+        // μ p and stays there at any rate (rate independence), dissipating τ γ̇ per unit volume.
+        let m = beads();
+        let p = 500.0;
+        for (rate, dt) in [(0.5, 1e-5), (50.0, 1e-6)] {
+            let mut point = MaterialPoint::new(&m, [-p, -p, -p, 0.0]);
+            let steps = 200_000;
+            point.drive(&m, [0.0, rate, 0.0, 0.0, 0.0], dt, steps);
+            let (pressure, tau) = DruckerPrager::pressure_and_shear(&point.stress);
+            assert!((pressure - p).abs() < 1e-9 * p, "{pressure}");
+            assert!((tau - m.friction * p).abs() < 1e-9 * tau, "rate {rate}: μ = {} vs {}", tau / p, m.friction);
+            // Past the elastic rise (γ = μ p / G ≈ 7e-4), the work is τ (γ − γ_elastic).
+            let strain = rate * dt * steps as f64;
+            let plastic = strain - tau / (1e6 / 2.6);
+            let work = point.state[1];
+            assert!((work - tau * plastic).abs() < 0.01 * tau * plastic, "rate {rate}: {work} vs {}", tau * plastic);
+            assert!((point.state[0] - plastic).abs() < 0.01 * plastic, "{} vs {plastic}", point.state[0]);
+        }
+    }
+
+    #[test]
+    fn tension_and_zero_pressure_leave_the_material_stress_free() {
+        let m = beads();
+        for start in [[1.0, 1.0, 1.0, 0.3], [0.0, 0.0, 0.0, 25.0]] {
+            let mut stress = start;
+            let mut state = [0.0; 2];
+            let k = Kinematics { jacobian: 1.25, ..kinematics([0.0; 5], 1e-3) };
+            m.update_stress(&mut stress, &mut state, &k);
+            assert_eq!(stress, [0.0; 4]);
+            assert_eq!(state[0], 0.0);
+            let released = 1.25 * crate::material::complementary_energy(&start, 1e6, 0.3);
+            assert!(released > 0.0 && (state[1] - released).abs() < 1e-15 * released, "{} vs {released}", state[1]);
+        }
+    }
+
+    #[test]
+    fn wave_speed_is_the_elastic_p_wave_speed() {
+        let c = (1e6f64 * 0.7 / (1.3 * 0.4 * 1550.0)).sqrt();
+        assert!((beads().wave_speed() - c).abs() < 1e-12 * c);
+    }
+
+    #[test]
+    fn dilute_material_reloads_no_faster_than_the_time_step_allows() {
+        let plain = beads();
+        let c0 = plain.wave_speed();
+        let mut limited = beads();
+        limited.limit_wave_speed(2.0 * c0); // stable up to J = 4
+        assert!((limited.stable_jacobian - 4.0).abs() < 1e-12, "{}", limited.stable_jacobian);
+        let mut slow = beads();
+        slow.limit_wave_speed(0.5 * c0);
+        assert_eq!(slow.stable_jacobian, 1.0);
+        // A compressive, sheared increment from rest, elastic (inside the cone).
+        let l = [-2.0, 0.3, 0.1, -1.0, -1.0];
+        for (jacobian, s) in [(0.98, 1.0), (4.0, 1.0), (10.0, 0.4), (100.0, 0.04)] {
+            let k = Kinematics { jacobian, ..kinematics(l, 1e-4) };
+            let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+            limited.update_stress(&mut a, &mut [0.0; 2], &k);
+            plain.update_stress(&mut b, &mut [0.0; 2], &k);
+            let (p, tau) = DruckerPrager::pressure_and_shear(&b);
+            assert!(p > 0.0 && tau < plain.friction * p, "the increment must be elastic");
+            for c in 0..4 {
+                assert!((a[c] - s * b[c]).abs() <= 1e-12 * b[c].abs(), "J = {jacobian}, component {c}: {} vs {}", a[c], s * b[c]);
+            }
+        }
+        // Plastic shear strain of a return at J > J_s is that of the softer moduli.
+        let k = Kinematics { jacobian: 10.0, ..kinematics([0.0, 40.0, 0.0, 0.0, 0.0], 1e-4) };
+        let (mut stress, mut state) = ([-100.0, -100.0, -100.0, 50.0], [0.0; 2]);
+        limited.update_stress(&mut stress, &mut state, &k);
+        // The trial of the softer moduli: linear elasticity with E × 0.4 (λ and G scale with E).
+        let mut trial = [-100.0, -100.0, -100.0, 50.0];
+        LinearElastic::new(1550.0, 0.4e6, 0.3).update_stress(&mut trial, &mut [], &k);
+        let (p_trial, tau_trial) = DruckerPrager::pressure_and_shear(&trial);
+        assert!(tau_trial > limited.friction * p_trial, "the step must return");
+        let expected = (tau_trial - limited.friction * p_trial) / (0.4 * 1e6 / 2.6);
+        assert!((state[0] - expected).abs() < 1e-9 * expected, "{} vs {expected}", state[0]);
+    }
+
+    #[test]
+    fn registry_builds_it_by_name_and_names_bad_keys() {
+        use serde_json::json;
+        let table = json!({"density": 1550.0, "youngs_modulus": 1e6, "poisson_ratio": 0.3, "friction": 0.5184});
+        let p = Parameters::new("beads", table.as_object().unwrap());
+        let m = build(&p).unwrap();
+        assert_eq!(m.model(), "drucker_prager");
+        assert_eq!(m.state_names(), &STATE_NAMES);
+        for (key, value, message) in [
+            ("friction", 0.0, "must be > 0 (got 0)"),
+            ("density", -1.0, "must be > 0 kg/m³ (got -1)"),
+            ("poisson_ratio", 0.5, "must be in (-1, 0.5) (got 0.5)"),
+            ("poisson_ratio", -1.0, "must be in (-1, 0.5) (got -1)"),
+        ] {
+            let mut bad = table.clone();
+            bad[key] = json!(value);
+            let p = Parameters::new("beads", bad.as_object().unwrap());
+            assert_eq!(build(&p).err().unwrap(), format!("materials.beads.{key}: {message}"));
+        }
+    }
+}

@@ -1,0 +1,31 @@
+"""``model = "drucker_prager"``: rate-independent Drucker–Prager plasticity for dry, cohesionless
+granular matter (docs/physics.md §6c; engine: crates/axmpm-core/src/material/drucker_prager.rs).
+
+Yield cone τ = μ p with τ = √(½ s:s) (a layer on an incline flows at tan θ = μ), isochoric
+plastic flow, stress-free in tension. Rousseau et al. (2023, JFM) reproduce granular collapses
+with this constant-friction rheology when μ is the tangent of the material's avalanche angle
+(tan 27.4° = 0.518 for Lajeunesse et al.'s glass beads). State variables written to every frame:
+``plastic_shear_strain`` and ``plastic_work`` (J/m³ of reference volume)."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from ..fields import bounded
+from . import ElasticMaterial, register_material
+
+
+@register_material("drucker_prager")
+class DruckerPrager(ElasticMaterial):
+    """Rate-independent Drucker–Prager cone, no dilatancy, no cohesion."""
+
+    model: Literal["drucker_prager"]
+    friction: bounded(0.0, 1.0, lo_open=True, hi_open=True) = Field(  # type: ignore[valid-type]
+        description="μ, friction coefficient τ/p of the yield cone")
+
+    def default_k0(self) -> float:
+        # Jaky's k0 = 1 − sin φ with sin φ = μ (the Mohr circle of a stress ratio τ/p = μ with
+        # no normal-stress differences, as granular_fluidity.py).
+        return 1.0 - self.friction
