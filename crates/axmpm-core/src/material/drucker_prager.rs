@@ -185,6 +185,17 @@ mod tests {
     }
 
     #[test]
+    fn pressure_and_shear_of_simple_and_triaxial_stress() {
+        let (p, tau) = DruckerPrager::pressure_and_shear(&[-100.0, -100.0, -100.0, 30.0]);
+        assert_eq!((p, tau), (100.0, 30.0));
+        // σ = diag(−1, −1, −4): p = 2, s = (1, 1, −2), ½ s:s = 3; and with the order changed.
+        for stress in [[-1.0, -1.0, -4.0, 0.0], [-4.0, -1.0, -1.0, 0.0], [-1.0, -4.0, -1.0, 0.0]] {
+            let (p, tau) = DruckerPrager::pressure_and_shear(&stress);
+            assert!((p - 2.0).abs() < 1e-15 && (tau - 3f64.sqrt()).abs() < 1e-15, "{stress:?}: {p}, {tau}");
+        }
+    }
+
+    #[test]
     fn below_the_cone_the_step_is_the_elastic_one() {
         let m = beads();
         let elastic = LinearElastic::new(1550.0, 1e6, 0.3);
