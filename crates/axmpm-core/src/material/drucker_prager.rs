@@ -288,6 +288,9 @@ mod tests {
         let mut limited = beads();
         limited.limit_wave_speed(2.0 * c0); // stable up to J = 4
         assert!((limited.stable_jacobian - 4.0).abs() < 1e-12, "{}", limited.stable_jacobian);
+        let mut faster = beads();
+        faster.limit_wave_speed(3.0 * c0); // J_s = (c_max/c0)² = 9
+        assert!((faster.stable_jacobian - 9.0).abs() < 1e-12, "{}", faster.stable_jacobian);
         let mut slow = beads();
         slow.limit_wave_speed(0.5 * c0);
         assert_eq!(slow.stable_jacobian, 1.0);
