@@ -281,3 +281,15 @@ def test_bench_linear_elastic_runs_the_elastic_column() -> None:
 def test_bench_rejects_an_unknown_material() -> None:
     result = run_cli("bench", "--material", "granite", "--steps", "1")
     assert result.returncode == 2 and "granite" in result.stderr
+
+
+def test_validate_names_a_bad_builder_parameter_without_a_traceback(tmp_path: Path) -> None:
+    # Builder parameters (bare --set keys) are checked before anything runs: exit 2, the key named.
+    for item, key in [("material_model=druker", "material_model"),
+                      ("friction_coefficient=2", "friction_coefficient"),
+                      ("gate_speed=-1", "gate_speed")]:
+        extra = ["--set", "material_model=drucker_prager"] if key == "friction_coefficient" else []
+        result = run_cli("validate", "--case", "column_collapse", "--aspect-ratios", "0.5", "--cell-size", "0.004",
+                         "--set", item, *extra, "--out", tmp_path / key)
+        assert_input_error(result, key)
+        assert not (tmp_path / key / "cases").exists()

@@ -74,13 +74,20 @@ def case_scenario(name: str, formulation: str = "axisymmetric", overrides: list[
                   aspect_ratio: float | None = None, **builder: Any) -> Any:
     """The scenario of a column: :func:`~.scenario.collapse_scenario` + ``--set`` overrides
     (``aspect_ratio`` given: a sweep column of any a; otherwise one of :data:`CASES`)."""
+    from ...errors import ScenarioError
     from ...scenario import Scenario, apply_overrides
 
     if aspect_ratio is None:
         if name not in CASES:
             raise KeyError(f"unknown case {name!r}; known: {', '.join(CASES)}")
         aspect_ratio = CASES[name]
-    data = collapse_scenario(aspect_ratio, formulation=formulation, as_dict=True, **builder)
+    try:
+        data = collapse_scenario(aspect_ratio, formulation=formulation, as_dict=True, **builder)
+    except ValueError as err:
+        # The builder names the parameter first ("gate_speed: must be ..."): report it as bad
+        # input (exit 2, no traceback) like any scenario key.
+        key, _, message = str(err).partition(": ")
+        raise ScenarioError([(key, message)] if message else str(err), f"case {name}") from None
     if overrides:
         data = apply_overrides(data, overrides)
     return Scenario.from_dict(data, source=f"case {name}")

@@ -151,6 +151,8 @@ def collapse_scenario(
     if material_model not in ("mohr_coulomb", "granular_fluidity", "drucker_prager"):
         raise ValueError("material_model: must be 'mohr_coulomb', 'granular_fluidity' or 'drucker_prager' "
                          f"(got {material_model!r})")
+    if material_model == "drucker_prager" and not (0.0 < friction_coefficient < 1.0):
+        raise ValueError(f"friction_coefficient: must be > 0 and < 1 (got {friction_coefficient})")
     h = float(cell_size)
     n_r = max(1, int(round(radius / h)))
     H = aspect_ratio * n_r * h if height is None else float(height)
