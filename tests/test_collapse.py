@@ -157,6 +157,12 @@ def test_examples_match_builder():
     for name, a in (("a056", 0.56), ("a08", 0.8), ("a54", 5.4)):
         ex = Scenario.from_toml(root / f"column_collapse_{name}.toml")
         assert ex.to_dict() == collapse_scenario(a).to_dict()
+    # Drucker–Prager at the avalanche angle with F-bar, 30 cells per radius.
+    data = collapse_scenario(5.4, cell_size=0.001, material_model="drucker_prager", as_dict=True)
+    data["simulation"]["volumetric_averaging"] = "cell"
+    ex = Scenario.from_toml(root / "column_collapse_a54_drucker_prager.toml")
+    assert ex.to_dict() == Scenario.from_dict(data).to_dict()
+    assert ex.materials["sand"].model == "drucker_prager" and ex.simulation.volumetric_averaging == "cell"
 
 
 def test_tiny_validate_run(tmp_path):
