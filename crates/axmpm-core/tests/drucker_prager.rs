@@ -4,7 +4,7 @@
 
 mod common;
 use axmpm_core::config::*;
-use axmpm_core::material::DruckerPrager;
+use axmpm_core::material::pressure_and_shear;
 use axmpm_core::Simulation;
 use common::*;
 
@@ -58,7 +58,7 @@ fn the_column_flows_on_the_cone_and_the_energy_budget_closes() {
         let k = sim.state_names().iter().position(|n| n == "plastic_shear_strain").unwrap();
         let mut on_cone = 0;
         for (i, stress) in p.stress.iter().enumerate() {
-            let (pressure, tau) = DruckerPrager::pressure_and_shear(stress);
+            let (pressure, tau) = pressure_and_shear(stress);
             // Never outside the cone; stress-free when not compressed.
             assert!(tau <= FRICTION * pressure.max(0.0) * (1.0 + 1e-12) + 1e-12, "{f:?}: particle {i} τ = {tau}, p = {pressure}");
             if pressure > 0.0 && tau > FRICTION * pressure * (1.0 - 1e-9) && p.state[i * p.state_stride + k] > 0.0 {

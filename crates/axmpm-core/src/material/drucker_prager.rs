@@ -44,7 +44,10 @@
 //!   (complementary) elastic energy W_e, so that the model adds no residual of its own to the
 //!   energy budget (as granular_fluidity.rs).
 
-use super::{jaumann_rotation, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
+use super::{
+    jaumann_rotation, p_wave_speed, pressure_and_shear, rate_of_deformation, stable_jacobian, stress_power, Kinematics,
+    LinearElastic, Material, Parameters,
+};
 use crate::particles::Stress;
 
 const STATE_NAMES: [&str; 2] = ["plastic_shear_strain", "plastic_work"];
@@ -78,30 +81,11 @@ impl DruckerPrager {
     /// From a `drucker_prager` table; every key is required (the scenario front end fills the
     /// documented defaults). Errors name `materials.NAME.KEY` and the allowed range.
     pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
-        let positive = |key: &str, unit: &str| -> Result<f64, String> {
-            let v = p.f64(key)?;
-            if v > 0.0 && v.is_finite() {
-                Ok(v)
-            } else {
-                Err(p.error(key, format!("must be > 0{unit} (got {v})")))
-            }
-        };
-        let density = positive("density", " kg/m³")?;
-        let youngs_modulus = positive("youngs_modulus", " Pa")?;
-        let poisson_ratio = p.f64("poisson_ratio")?;
-        if !(poisson_ratio > -1.0 && poisson_ratio < 0.5) {
-            return Err(p.error("poisson_ratio", format!("must be in (-1, 0.5) (got {poisson_ratio})")));
-        }
-        let friction = positive("friction", "")?;
+        let density = p.positive("density", " kg/m³")?;
+        let youngs_modulus = p.positive("youngs_modulus", " Pa")?;
+        let poisson_ratio = p.poisson_ratio()?;
+        let friction = p.positive("friction", "")?;
         Ok(Self::new(density, youngs_modulus, poisson_ratio, friction))
-    }
-
-    /// p = −tr σ / 3 and τ = √(½ s:s) of a stress.
-    #[inline(always)]
-    pub fn pressure_and_shear(stress: &Stress) -> (f64, f64) {
-        let p = -(stress[0] + stress[1] + stress[2]) / 3.0;
-        let (s0, s1, s2) = (stress[0] + p, stress[1] + p, stress[2] + p);
-        (p, (0.5 * (s0 * s0 + s1 * s1 + s2 * s2) + stress[3] * stress[3]).sqrt())
     }
 }
 
@@ -128,9 +112,7 @@ impl Material for DruckerPrager {
     }
 
     fn limit_wave_speed(&mut self, max_wave_speed: f64) {
-        // c(J) = c0 √J: c(J) ≤ max_wave_speed up to J = (max_wave_speed/c0)², never below 1.
-        let ratio = max_wave_speed / self.wave_speed();
-        self.stable_jacobian = if ratio.is_finite() { (ratio * ratio).max(1.0) } else { f64::INFINITY };
+        self.stable_jacobian = stable_jacobian(max_wave_speed, self.wave_speed());
     }
 
     #[inline(always)]
@@ -146,7 +128,7 @@ impl Material for DruckerPrager {
         for c in 0..4 {
             stress[c] += inc[c] + rot[c];
         }
-        let (p, tau) = Self::pressure_and_shear(stress);
+        let (p, tau) = pressure_and_shear(stress);
         if p > 0.0 {
             let strength = self.friction * p;
             if tau <= strength {
@@ -163,7 +145,7 @@ impl Material for DruckerPrager {
             // Tension: the grains separate, stress-free.
             *stress = [0.0; 4];
         }
-        let power = k.dt * (start[0] * d[0] + start[1] * d[1] + start[2] * d[2] + 2.0 * start[3] * d[3]);
+        let power = stress_power(&start, &d, k.dt);
         let stored = self.elastic_energy_density(stress) - self.elastic_energy_density(&start);
         state[WORK_SLOT] += k.jacobian * (power - stored);
     }
@@ -180,17 +162,16 @@ mod tests {
     }
 
     fn power(start: &Stress, k: &Kinematics) -> f64 {
-        let (d, _) = rate_of_deformation(&k.velocity_gradient);
-        k.dt * (start[0] * d[0] + start[1] * d[1] + start[2] * d[2] + 2.0 * start[3] * d[3])
+        stress_power(start, &rate_of_deformation(&k.velocity_gradient).0, k.dt)
     }
 
     #[test]
     fn pressure_and_shear_of_simple_and_triaxial_stress() {
-        let (p, tau) = DruckerPrager::pressure_and_shear(&[-100.0, -100.0, -100.0, 30.0]);
+        let (p, tau) = pressure_and_shear(&[-100.0, -100.0, -100.0, 30.0]);
         assert_eq!((p, tau), (100.0, 30.0));
         // σ = diag(−1, −1, −4): p = 2, s = (1, 1, −2), ½ s:s = 3; and with the order changed.
         for stress in [[-1.0, -1.0, -4.0, 0.0], [-4.0, -1.0, -1.0, 0.0], [-1.0, -4.0, -1.0, 0.0]] {
-            let (p, tau) = DruckerPrager::pressure_and_shear(&stress);
+            let (p, tau) = pressure_and_shear(&stress);
             assert!((p - 2.0).abs() < 1e-15 && (tau - 3f64.sqrt()).abs() < 1e-15, "{stress:?}: {p}, {tau}");
         }
     }
@@ -220,8 +201,8 @@ mod tests {
         let k = Kinematics { jacobian: 0.97, ..kinematics([2.0, 30.0, -5.0, -1.0, 0.5], 2e-5) };
         m.update_stress(&mut stress, &mut state, &k);
         elastic.update_stress(&mut trial, &mut [], &k);
-        let (p_trial, tau_trial) = DruckerPrager::pressure_and_shear(&trial);
-        let (p, tau) = DruckerPrager::pressure_and_shear(&stress);
+        let (p_trial, tau_trial) = pressure_and_shear(&trial);
+        let (p, tau) = pressure_and_shear(&stress);
         assert!(tau_trial > m.friction * p_trial, "the trial must be outside the cone");
         assert!((p - p_trial).abs() < 1e-12 * p);
         assert!((tau - m.friction * p).abs() < 1e-12 * tau, "τ/p = {} vs μ = {}", tau / p, m.friction);
@@ -248,7 +229,7 @@ mod tests {
             let mut point = MaterialPoint::new(&m, [-p, -p, -p, 0.0]);
             let steps = 200_000;
             point.drive(&m, [0.0, rate, 0.0, 0.0, 0.0], dt, steps);
-            let (pressure, tau) = DruckerPrager::pressure_and_shear(&point.stress);
+            let (pressure, tau) = pressure_and_shear(&point.stress);
             assert!((pressure - p).abs() < 1e-9 * p, "{pressure}");
             assert!((tau - m.friction * p).abs() < 1e-9 * tau, "rate {rate}: μ = {} vs {}", tau / p, m.friction);
             // Past the elastic rise (γ = μ p / G ≈ 7e-4), the work is τ (γ − γ_elastic).
@@ -301,7 +282,7 @@ mod tests {
             let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
             limited.update_stress(&mut a, &mut [0.0; 2], &k);
             plain.update_stress(&mut b, &mut [0.0; 2], &k);
-            let (p, tau) = DruckerPrager::pressure_and_shear(&b);
+            let (p, tau) = pressure_and_shear(&b);
             assert!(p > 0.0 && tau < plain.friction * p, "the increment must be elastic");
             for c in 0..4 {
                 assert!((a[c] - s * b[c]).abs() <= 1e-12 * b[c].abs(), "J = {jacobian}, component {c}: {} vs {}", a[c], s * b[c]);
@@ -314,7 +295,7 @@ mod tests {
         // The trial of the softer moduli: linear elasticity with E × 0.4 (λ and G scale with E).
         let mut trial = [-100.0, -100.0, -100.0, 50.0];
         LinearElastic::new(1550.0, 0.4e6, 0.3).update_stress(&mut trial, &mut [], &k);
-        let (p_trial, tau_trial) = DruckerPrager::pressure_and_shear(&trial);
+        let (p_trial, tau_trial) = pressure_and_shear(&trial);
         assert!(tau_trial > limited.friction * p_trial, "the step must return");
         let expected = (tau_trial - limited.friction * p_trial) / (0.4 * 1e6 / 2.6);
         assert!((state[0] - expected).abs() < 1e-9 * expected, "{} vs {expected}", state[0]);

@@ -55,7 +55,7 @@
 //!   stored (complementary) elastic energy W_e, so that the model leaves no residual of its own
 //!   in the energy budget (the frictional dissipation; separation releases the stored energy).
 
-use super::{p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
+use super::{p_wave_speed, pressure_and_shear, rate_of_deformation, stress_power, Kinematics, LinearElastic, Material, Parameters};
 use crate::particles::Stress;
 
 const STATE_NAMES: [&str; 5] =
@@ -105,38 +105,19 @@ impl GranularFluidity {
     /// From a `granular_fluidity` table; every key is required (the scenario front end fills
     /// the documented defaults). Errors name `materials.NAME.KEY` and the allowed range.
     pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
-        let positive = |key: &str, unit: &str| -> Result<f64, String> {
-            let v = p.f64(key)?;
-            if v > 0.0 && v.is_finite() {
-                Ok(v)
-            } else {
-                Err(p.error(key, format!("must be > 0{unit} (got {v})")))
-            }
-        };
-        let density = positive("density", " kg/m³")?;
-        let youngs_modulus = positive("youngs_modulus", " Pa")?;
-        let poisson_ratio = p.f64("poisson_ratio")?;
-        if !(poisson_ratio > -1.0 && poisson_ratio < 0.5) {
-            return Err(p.error("poisson_ratio", format!("must be in (-1, 0.5) (got {poisson_ratio})")));
-        }
-        let static_friction = positive("static_friction", "")?;
-        let friction_rate = positive("friction_rate", "")?;
+        let density = p.positive("density", " kg/m³")?;
+        let youngs_modulus = p.positive("youngs_modulus", " Pa")?;
+        let poisson_ratio = p.poisson_ratio()?;
+        let static_friction = p.positive("static_friction", "")?;
+        let friction_rate = p.positive("friction_rate", "")?;
         let amplitude = p.f64("nonlocal_amplitude")?;
         if !(amplitude >= 0.0 && amplitude.is_finite()) {
             return Err(p.error("nonlocal_amplitude", format!("must be >= 0 (got {amplitude})")));
         }
-        let grain_diameter = positive("grain_diameter", " m")?;
-        let grain_density = positive("grain_density", " kg/m³")?;
+        let grain_diameter = p.positive("grain_diameter", " m")?;
+        let grain_density = p.positive("grain_density", " kg/m³")?;
         Ok(Self::new(density, youngs_modulus, poisson_ratio, static_friction, friction_rate, amplitude, grain_diameter,
                      grain_density))
-    }
-
-    /// p = −tr σ / 3 and τ = √(½ s:s) of a stress.
-    #[inline(always)]
-    pub fn pressure_and_shear(stress: &Stress) -> (f64, f64) {
-        let p = -(stress[0] + stress[1] + stress[2]) / 3.0;
-        let (s0, s1, s2) = (stress[0] + p, stress[1] + p, stress[2] + p);
-        (p, (0.5 * (s0 * s0 + s1 * s1 + s2 * s2) + stress[3] * stress[3]).sqrt())
     }
 
     /// g_loc at pressure `p` > 0 and stress ratio `mu` (0 at or below μ_s).
@@ -154,7 +135,7 @@ impl GranularFluidity {
     /// start-of-step stress `stress`.
     #[inline(always)]
     pub fn relax_fluidity(&self, g: f64, neighbour_sum: f64, diagonal: f64, stress: &Stress) -> f64 {
-        let (p, tau) = Self::pressure_and_shear(stress);
+        let (p, tau) = pressure_and_shear(stress);
         if !(p > 0.0) {
             // Separated grains: no local fluidity, no cooperativity; g decays.
             return 0.5 * g;
@@ -217,7 +198,7 @@ impl Material for GranularFluidity {
             }
             stress[3] *= scale;
             // Δγᵖ = Δt g μ = Δt g τ / p.
-            let (_, tau) = Self::pressure_and_shear(stress);
+            let (_, tau) = pressure_and_shear(stress);
             state[SHEAR_STRAIN_SLOT] += k.dt * g * tau / p;
         } else {
             // Tension: the grains separate, stress-free.
@@ -229,7 +210,7 @@ impl Material for GranularFluidity {
         // τ Δγᵖ and the mid-point rule (τ_tr² − τ²)/(2G) are the two limits of this: G Δt g/p
         // ≫ 1, where the elastic strain of one step is larger than the material keeps, and ≪ 1.)
         let (d, _) = rate_of_deformation(&k.velocity_gradient);
-        let power = k.dt * (start[0] * d[0] + start[1] * d[1] + start[2] * d[2] + 2.0 * start[3] * d[3]);
+        let power = stress_power(&start, &d, k.dt);
         let stored = self.elastic_energy_density(stress) - self.elastic_energy_density(&start);
         state[WORK_SLOT] += k.jacobian * (power - stored);
     }
@@ -252,10 +233,10 @@ mod tests {
 
     #[test]
     fn pressure_and_shear_of_simple_and_triaxial_stress() {
-        let (p, tau) = GranularFluidity::pressure_and_shear(&[-100.0, -100.0, -100.0, 30.0]);
+        let (p, tau) = pressure_and_shear(&[-100.0, -100.0, -100.0, 30.0]);
         assert_eq!((p, tau), (100.0, 30.0));
         // Triaxial: σ = diag(−1, −1, −4): p = 2, s = (1, 1, −2), ½ s:s = 3.
-        let (p, tau) = GranularFluidity::pressure_and_shear(&[-1.0, -1.0, -4.0, 0.0]);
+        let (p, tau) = pressure_and_shear(&[-1.0, -1.0, -4.0, 0.0]);
         assert!((p - 2.0).abs() < 1e-15 && (tau - 3f64.sqrt()).abs() < 1e-15);
     }
 
@@ -341,7 +322,7 @@ mod tests {
         let (p, rate, dt) = (500.0, 20.0, 1e-6);
         let mut point = MaterialPoint::new(&m, sheared(p, 0.2));
         point.drive(&m, [0.0, rate, 0.0, 0.0, 0.0], dt, 400_000);
-        let (pressure, tau) = GranularFluidity::pressure_and_shear(&point.stress);
+        let (pressure, tau) = pressure_and_shear(&point.stress);
         assert!((pressure - p).abs() < 1e-9 * p, "{pressure}");
         let inertial_number = rate * m.grain_diameter / (p / m.grain_density).sqrt();
         let expected = m.static_friction + m.friction_rate * inertial_number;
@@ -369,8 +350,7 @@ mod tests {
 
     /// The start-of-step stress power σ_n : Δε of a step (tensor shear component).
     fn power(start: &Stress, k: &Kinematics) -> f64 {
-        let (d, _) = rate_of_deformation(&k.velocity_gradient);
-        k.dt * (start[0] * d[0] + start[1] * d[1] + start[2] * d[2] + 2.0 * start[3] * d[3])
+        stress_power(start, &rate_of_deformation(&k.velocity_gradient).0, k.dt)
     }
 
     #[test]
@@ -406,8 +386,8 @@ mod tests {
         let dissipated = state[4] - 2.0;
         let expected = 0.97 * (power(&start, &k) - (w(&stress) - w(&start)));
         assert!(dissipated > 0.0 && (dissipated - expected).abs() < 1e-12 * dissipated, "{dissipated} vs {expected}");
-        let (p_trial, tau_trial) = GranularFluidity::pressure_and_shear(&trial);
-        let (p, tau) = GranularFluidity::pressure_and_shear(&stress);
+        let (p_trial, tau_trial) = pressure_and_shear(&trial);
+        let (p, tau) = pressure_and_shear(&stress);
         assert!((p - p_trial).abs() < 1e-12 * p);
         let g_modulus = 1e6 / 2.6;
         let scale = 1.0 / (1.0 + g_modulus * 2e-5 * g / p);

@@ -193,6 +193,30 @@ pub fn jaumann_rotation(stress: &Stress, spin12: f64, dt: f64) -> Stress {
     [2.0 * w * stress[3], -2.0 * w * stress[3], 0.0, w * (stress[1] - stress[0])]
 }
 
+/// p = −tr σ / 3 and τ = √(½ s:s) of a stress (3D: the hoop or out-of-plane deviator included),
+/// the invariants of the pressure-dependent cone models (granular_fluidity.rs, drucker_prager.rs).
+#[inline(always)]
+pub fn pressure_and_shear(stress: &Stress) -> (f64, f64) {
+    let p = -(stress[0] + stress[1] + stress[2]) / 3.0;
+    let (s0, s1, s2) = (stress[0] + p, stress[1] + p, stress[2] + p);
+    (p, (0.5 * (s0 * s0 + s1 * s1 + s2 * s2) + stress[3] * stress[3]).sqrt())
+}
+
+/// Stress power of one step per unit current volume, Δt σ : D, for the rate of deformation `d`
+/// of [`rate_of_deformation`] (tensor shear component, hence the factor 2).
+#[inline(always)]
+pub fn stress_power(stress: &Stress, d: &[f64; 4], dt: f64) -> f64 {
+    dt * (stress[0] * d[0] + stress[1] * d[1] + stress[2] * d[2] + 2.0 * stress[3] * d[3])
+}
+
+/// J up to which a hypoelastic model with P-wave speed `wave_speed` (as placed; c(J) = c0 √J at
+/// density ρ0/J) stays within `max_wave_speed`: (c_max/c0)², never below 1; ∞ when unbounded
+/// ([`Material::limit_wave_speed`]; mohr_coulomb.rs, "Dilute material and the time step").
+pub fn stable_jacobian(max_wave_speed: f64, wave_speed: f64) -> f64 {
+    let ratio = max_wave_speed / wave_speed;
+    if ratio.is_finite() { (ratio * ratio).max(1.0) } else { f64::INFINITY }
+}
+
 /// The parameter table of one material (`materials.NAME`), read by its model. Absent keys and
 /// JSON `null` both count as "not given"; keys a model does not read are ignored (the front
 /// end has already rejected unknown keys).
@@ -215,6 +239,26 @@ impl<'a> Parameters<'a> {
     /// A required number.
     pub fn f64(&self, key: &str) -> Result<f64, String> {
         self.optional_f64(key)?.ok_or_else(|| self.error(key, "required"))
+    }
+
+    /// A required finite number > 0; the message names the key, the range and `unit`.
+    pub fn positive(&self, key: &str, unit: &str) -> Result<f64, String> {
+        let v = self.f64(key)?;
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(self.error(key, format!("must be > 0{unit} (got {v})")))
+        }
+    }
+
+    /// The required `poisson_ratio`, in (−1, 0.5).
+    pub fn poisson_ratio(&self) -> Result<f64, String> {
+        let v = self.f64("poisson_ratio")?;
+        if v > -1.0 && v < 0.5 {
+            Ok(v)
+        } else {
+            Err(self.error("poisson_ratio", format!("must be in (-1, 0.5) (got {v})")))
+        }
     }
 
     /// A number, `default` when not given.

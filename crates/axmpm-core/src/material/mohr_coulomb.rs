@@ -1000,10 +1000,7 @@ impl Material for MohrCoulomb {
     }
 
     fn limit_wave_speed(&mut self, max_wave_speed: f64) {
-        // c(J) = c0 √J (hypoelastic moduli, density ρ0/J): c(J) ≤ max_wave_speed up to
-        // J = (max_wave_speed/c0)², never below 1 (the material as placed is unchanged).
-        let ratio = max_wave_speed / self.wave_speed();
-        self.stable_jacobian = if ratio.is_finite() { (ratio * ratio).max(1.0) } else { f64::INFINITY };
+        self.stable_jacobian = super::stable_jacobian(max_wave_speed, self.wave_speed());
     }
 }
 
