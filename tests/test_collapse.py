@@ -133,6 +133,8 @@ def test_builder_critical_packing_fraction():
     sand = collapse_scenario(0.8, critical_packing_fraction=0.55).materials["sand"]
     assert sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
     assert sand.cell_averaged_disconnection is False  # off by default
+    sand = collapse_scenario(0.8, material_model="drucker_prager", critical_packing_fraction=0.55).materials["sand"]
+    assert sand.model == "drucker_prager" and sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
     sand = collapse_scenario(0.8, critical_packing_fraction=0.55, cell_averaged_disconnection=True).materials["sand"]
     assert sand.cell_averaged_disconnection is True
 
@@ -208,6 +210,9 @@ def test_tiny_validate_run(tmp_path):
         (case["runout_normalised_3_grains"] - lube["runout_normalised"]) / lube["runout_normalised"])
     assert 0.0 <= case["mass_beyond_law"]["lube2004"] <= 1.0
     assert "| at 3 d | diff | mass beyond Lube 2004 |" in (out / "report.md").read_text()
+    # the sideways share of the released energy (Staron & Hinch's measure), a share below 1
+    side = case["sideways_energy"]
+    assert 0.0 < side["peak_sideways_share"] < 1.0 and 0.0 < side["peak_sideways_time"] <= 0.06
 
 
 @pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
@@ -313,3 +318,48 @@ def test_lifted_tube_holds_the_sand_above_its_bottom_edge(tmp_path):
         heights[name] = float(last.x[outside, 1].max()) if outside.any() else 0.0
     assert 0.0 < heights["gate"] <= V * t_end + 0.002, heights
     assert heights["instant"] > heights["gate"] + 0.008, heights  # two cells higher
+
+
+def test_kinetic_energy_split_of_given_frames():
+    """½ Σ m v_r², ½ Σ m v_z² and Σ m g·(x − X0) of each frame, by hand."""
+    from types import SimpleNamespace
+
+    from axmpm.cases.column_collapse.energy import kinetic_energy_split
+
+    frame = SimpleNamespace(time=0.5, mass=np.array([2.0, 3.0]), v=np.array([[1.0, -2.0], [0.5, 0.0]]),
+                            X0=np.array([[0.0, 1.0], [0.1, 2.0]]), x=np.array([[0.2, 0.5], [0.1, 2.25]]))
+    split = kinetic_energy_split([frame], (0.0, -10.0))
+    assert split["time"].tolist() == [0.5]
+    assert split["sideways"][0] == pytest.approx(0.5 * (2.0 * 1.0 + 3.0 * 0.25))
+    assert split["vertical"][0] == pytest.approx(0.5 * 2.0 * 4.0)
+    # 2 kg fell 0.5 m, 3 kg rose 0.25 m: (10 − 7.5) J released
+    assert split["released"][0] == pytest.approx(2.0 * 10.0 * 0.5 - 3.0 * 10.0 * 0.25)
+    # a sideways gravity releases energy with sideways displacement
+    assert kinetic_energy_split([frame], (-10.0, 0.0))["released"][0] == pytest.approx(-2.0 * 10.0 * 0.2)
+
+
+def test_sideways_energy_of_a_block_thrown_sideways_in_free_fall(tmp_path):
+    """A stress-free elastic block launched at u sideways and falling freely: its sideways
+    kinetic energy stays ½ M u², its vertical one is the released potential energy ½ M (g t)²."""
+    import axmpm
+    from axmpm.cases.column_collapse.energy import sideways_energy
+
+    u, g, t_end = 0.2, 10.0, 0.1
+    scenario = {
+        "simulation": {"formulation": "plane_strain", "shape_function": "linear", "end_time": t_end,
+                       "output_interval": 0.05, "gravity": [0.0, -g], "flip_fraction": 1.0},
+        "grid": {"extent": [0.3, 0.3], "cell_size": 0.01},
+        "materials": {"m": {"model": "linear_elastic", "density": 1000.0, "youngs_modulus": 1e5,
+                            "poisson_ratio": 0.3}},
+        "bodies": [{"material": "m", "min": [0.05, 0.2], "max": [0.1, 0.25], "velocity": [u, 0.0]}],
+    }
+    summary = axmpm.run(scenario, tmp_path / "fall")
+    assert summary["status"] == "completed"
+    e = sideways_energy(tmp_path / "fall")
+    # Released by the end: ½ M g² t (t + Δt) (the explicit step moves with the updated
+    # velocity), the sideways peak ½ M u² and the vertical ½ M (g t)².
+    t, dt = summary["end_time"], summary["dt"]
+    # (rel 1e-4: the last step is cut to land on end_time; Δt/t itself is 3e-3)
+    assert e["peak_sideways_share"] == pytest.approx(u ** 2 / (g ** 2 * t * (t + dt)), rel=1e-4)
+    assert e["peak_vertical_share"] == pytest.approx(t / (t + dt), rel=1e-4)
+    assert e["released_share_at_peak"] >= 0.0

@@ -326,3 +326,33 @@ def test_drucker_prager_is_stress_free_in_tension_and_names_a_bad_friction():
         with pytest.raises(ScenarioError) as err:
             validate_material(dp(bad))
         assert "friction" in str(err.value)
+
+
+def test_drucker_prager_disconnected_below_the_critical_packing_recompacts_without_rebound():
+    # The Mohr–Coulomb disconnection path above, with Drucker–Prager: stress-free while J > J_c,
+    # and back near J = 1 the pressure is the elastic K ln(J_c / J) of the compaction beyond J_c.
+    dt = 1e-3
+    path = np.vstack([np.tile([0.5, 0.0, 0.0, 0.5, 0.5], (200, 1)), np.tile([-0.5, 0.0, 0.0, -0.5, -0.5], (200, 1))])
+    on = material_point({**dp(), "critical_packing_fraction": 0.55, "grain_density": 2500.0}, path, dt,
+                        [-2e3, -2e3, -2e3, 0.0])
+    jc = 1550.0 / 2500.0 / 0.55
+    J = np.cumprod((1.0 + path[:, 0] * dt) ** 3)
+    np.testing.assert_array_equal(on.stresses[J > jc], 0.0)
+    assert np.any(on.stresses[J <= jc] != 0.0)
+    p_on = -on.stresses[-1, :3].mean()
+    assert p_on == pytest.approx(K_BULK * math.log(jc / J[-1]), rel=0.02)
+    # the plain cone re-loads from the start of the compression: far more pressure
+    off = material_point(dp(), path, dt, [-2e3, -2e3, -2e3, 0.0])
+    assert -off.stresses[-1, :3].mean() > 2.0 * p_on
+
+
+@pytest.mark.parametrize("extra, field, message", [
+    ({"critical_packing_fraction": 0.7, "grain_density": 2500.0}, "critical_packing_fraction", "(0, 0.62]"),
+    ({"critical_packing_fraction": 0.55, "grain_density": 1500.0}, "grain_density", "must be > density = 1550"),
+    ({"critical_packing_fraction": 0.55}, "grain_density", "is required with critical_packing_fraction"),
+])
+def test_drucker_prager_disconnection_input_errors_name_the_field(extra, field, message):
+    with pytest.raises(ScenarioError) as info:
+        validate_material({**dp(), **extra})
+    text = str(info.value)
+    assert field in text and message in text, text

@@ -95,6 +95,12 @@ def test_the_report_says_which_law_each_branch_follows(tmp_path):
         assert next(r for r in g["laws"] if r["law"] == "lube2004")["within"] == expected, (tolerance, g)
     # without a fit (too few runs) one group over all runs
     assert [g["range"] for g in law_agreement(cases[:3], None)] == ["all a"]
+    # the peak sideways kinetic energy of each run, a dash where it is missing
+    cases[4]["sideways_energy"] = {"peak_sideways_share": 0.1871}
+    rows = [line for line in sweep_report(cases, tmp_path, {"formulation": "axisymmetric", "overrides": []},
+                                          figures=False).splitlines() if line.startswith("| a")]
+    assert "| peak sideways KE |" in text
+    assert "| 18.7 % |" in rows[4] and "18.7 %" not in rows[3] and len(rows) == 9
 
 
 def test_plane_strain_sweep_is_tabulated_against_the_planar_laws(tmp_path):

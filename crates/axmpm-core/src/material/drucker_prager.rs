@@ -35,6 +35,21 @@
 //! scaled by J_s/J (a granular gas has no contact network, so any stiffness below the
 //! material's as placed is admissible). Up to J_s the update is the plain one, bit for bit.
 //!
+//! # Disconnected material below the critical packing (`critical_packing_fraction`)
+//!
+//! Optional, off by default (the update is then the plain one, bit for bit): Dunatunga &
+//! Kamrin's (2015) disconnected state, with the rule of mohr_coulomb.rs ("Disconnected
+//! material below the critical packing") and its parameters (`critical_packing_fraction` φ_c,
+//! `grain_density` ρ_s; J_c = ρ0/(φ_c ρ_s), [`Parameters::critical_jacobian`]). Granular
+//! matter looser than φ_c has no enduring contacts: at J > J_c the particle is stress-free
+//! whatever its strain increment, in compression as in tension (the plain model only frees it
+//! in tension). A step that ends at J ≤ J_c after starting above it first takes out of the
+//! strain increment the compaction done while still looser than φ_c, ln(J_n/J_c) with
+//! ln J_n = ln J − tr Δε, so the material re-connects at φ_c with σ = 0 and stores nothing of
+//! that compaction: the re-compaction of loose material is inelastic (no rebound), as in a
+//! dilatable rigid-plastic continuum (Rousseau et al. 2023). With cell-averaged dilatation
+//! (F-bar) J is the cell's, a packing of the continuum rather than of one particle.
+//!
 //! # State variables
 //!
 //! - `plastic_shear_strain`: Σ Δγᵖ, Δγᵖ = (τ_tr − τ)/G of each return (the shear strain the
@@ -66,6 +81,8 @@ pub struct DruckerPrager {
     /// J above which the moduli are scaled by `stable_jacobian / J` (module doc, "Dilute
     /// material"); ∞ = never (set by [`Material::limit_wave_speed`]).
     pub stable_jacobian: f64,
+    /// J_c = φ0/φ_c above which the material is disconnected (module doc); `None` = off.
+    pub critical_jacobian: Option<f64>,
 }
 
 impl DruckerPrager {
@@ -75,7 +92,15 @@ impl DruckerPrager {
             friction,
             shear_modulus: youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
             stable_jacobian: f64::INFINITY,
+            critical_jacobian: None,
         }
+    }
+
+    /// Switches the disconnected state on above J = `critical_jacobian` (module doc); `None`
+    /// leaves the plain model.
+    pub fn with_disconnection(mut self, critical_jacobian: Option<f64>) -> Self {
+        self.critical_jacobian = critical_jacobian;
+        self
     }
 
     /// From a `drucker_prager` table; every key is required (the scenario front end fills the
@@ -85,7 +110,8 @@ impl DruckerPrager {
         let youngs_modulus = p.positive("youngs_modulus", " Pa")?;
         let poisson_ratio = p.poisson_ratio()?;
         let friction = p.positive("friction", "")?;
-        Ok(Self::new(density, youngs_modulus, poisson_ratio, friction))
+        let critical_jacobian = p.critical_jacobian(density)?;
+        Ok(Self::new(density, youngs_modulus, poisson_ratio, friction).with_disconnection(critical_jacobian))
     }
 }
 
@@ -121,15 +147,24 @@ impl Material for DruckerPrager {
         // Elastic predictor: the linear-elastic Jaumann step, with the moduli scaled by
         // s = J_s/J for dilute material (module doc).
         let (d, spin) = rate_of_deformation(&k.velocity_gradient);
+        let mut strain = [d[0] * k.dt, d[1] * k.dt, d[2] * k.dt, d[3] * k.dt];
+        let mut disconnected = false;
+        if let Some(jc) = self.critical_jacobian {
+            if k.jacobian > jc {
+                disconnected = true;
+            } else {
+                reconnect(&mut strain, k.jacobian, jc);
+            }
+        }
         let stiffness = if k.jacobian > self.stable_jacobian { self.stable_jacobian / k.jacobian } else { 1.0 };
-        let de = [d[0] * k.dt * stiffness, d[1] * k.dt * stiffness, d[2] * k.dt * stiffness, d[3] * k.dt * stiffness];
+        let de = [strain[0] * stiffness, strain[1] * stiffness, strain[2] * stiffness, strain[3] * stiffness];
         let rot = jaumann_rotation(stress, spin, k.dt);
         let inc = self.elastic.elastic_increment(&de);
         for c in 0..4 {
             stress[c] += inc[c] + rot[c];
         }
         let (p, tau) = pressure_and_shear(stress);
-        if p > 0.0 {
+        if p > 0.0 && !disconnected {
             let strength = self.friction * p;
             if tau <= strength {
                 return; // elastic
@@ -142,12 +177,29 @@ impl Material for DruckerPrager {
             stress[3] *= scale;
             state[SHEAR_STRAIN_SLOT] += (tau - strength) / (stiffness * self.shear_modulus);
         } else {
-            // Tension: the grains separate, stress-free.
+            // Tension, or looser than the critical packing: the grains separate, stress-free.
             *stress = [0.0; 4];
         }
         let power = stress_power(&start, &d, k.dt);
         let stored = self.elastic_energy_density(stress) - self.elastic_energy_density(&start);
         state[WORK_SLOT] += k.jacobian * (power - stored);
+    }
+}
+
+/// Re-connection (module doc, "Disconnected material"): the part of a compressive strain
+/// increment done while J was still above J_c, ln(J_n/J_c) with ln J_n = ln J − tr Δε, is
+/// taken out of `strain` (isotropically), so that it is stored nowhere.
+#[inline(always)]
+fn reconnect(strain: &mut [f64; 4], jacobian: f64, critical_jacobian: f64) {
+    let compaction = -(strain[0] + strain[1] + strain[2]);
+    if compaction > 0.0 {
+        let excess = jacobian.ln() + compaction - critical_jacobian.ln();
+        if excess > 0.0 {
+            let third = excess.min(compaction) / 3.0;
+            for c in 0..3 {
+                strain[c] += third;
+            }
+        }
     }
 }
 
@@ -301,6 +353,64 @@ mod tests {
         assert!((state[0] - expected).abs() < 1e-9 * expected, "{} vs {expected}", state[0]);
     }
 
+    /// Bulk modulus of `beads()`, Pa.
+    const BULK: f64 = 1e6 / (3.0 * (1.0 - 2.0 * 0.3));
+
+    /// Isotropic compression by `compaction` (−tr Δε) over one step, at end-of-step J `jacobian`.
+    fn compress(compaction: f64, jacobian: f64) -> Kinematics {
+        let rate = -compaction / 2.0 / 1e-4; // ε̇_rr = ε̇_zz, no hoop rate (tr = 2 × rate × dt)
+        Kinematics { jacobian, ..kinematics([rate, 0.0, 0.0, rate, 0.0], 1e-4) }
+    }
+
+    #[test]
+    fn looser_than_the_critical_packing_the_material_carries_no_stress() {
+        let jc = 0.62 / 0.55;
+        let m = beads().with_disconnection(Some(jc));
+        // Compressed and sheared, but at J above J_c: stress-free, its elastic energy dissipated.
+        let start = [-300.0, -280.0, -290.0, 40.0];
+        for jacobian in [jc * 1.0001, 1.3, 4.0] {
+            let (mut stress, mut state) = (start, [0.0; 2]);
+            let k = compress(1e-3, jacobian);
+            m.update_stress(&mut stress, &mut state, &k);
+            assert_eq!(stress, [0.0; 4], "J = {jacobian}");
+            let released = jacobian * (power(&start, &k) + crate::material::complementary_energy(&start, 1e6, 0.3));
+            assert!((state[1] - released).abs() < 1e-12 * released.abs(), "{} vs {released}", state[1]);
+        }
+        // At J_c itself it is connected: a shearing step is the plain model's.
+        let shear = Kinematics { jacobian: jc, ..kinematics([0.0, 2.0, 0.0, 0.0, 0.0], 1e-4) };
+        let (mut a, mut b) = (start, start);
+        m.update_stress(&mut a, &mut [0.0; 2], &shear);
+        beads().update_stress(&mut b, &mut [0.0; 2], &shear);
+        assert_eq!(a, b);
+        assert!(pressure_and_shear(&a).0 > 280.0);
+    }
+
+    #[test]
+    fn recompaction_stores_only_the_compaction_beyond_the_critical_packing() {
+        // From J_n = 1.2 (stress-free) to J = 1.1 across J_c = 1.127 in one step: only
+        // ln(J_c/J) of the compaction is elastic; the plain model stores all of ln(J_n/J).
+        let jc = 0.62 / 0.55;
+        let (j_start, j_end) = (1.2f64, 1.1f64);
+        let compaction = (j_start / j_end).ln();
+        let k = compress(compaction, j_end);
+        let mut stress = [0.0; 4];
+        beads().with_disconnection(Some(jc)).update_stress(&mut stress, &mut [0.0; 2], &k);
+        let (p, _) = pressure_and_shear(&stress);
+        let expected = BULK * (jc / j_end).ln();
+        assert!((p - expected).abs() < 1e-9 * expected, "{p} vs {expected}");
+        let mut plain = [0.0; 4];
+        beads().update_stress(&mut plain, &mut [0.0; 2], &k);
+        let (p_plain, _) = pressure_and_shear(&plain);
+        assert!((p_plain - BULK * compaction).abs() < 1e-9 * p_plain, "{p_plain}");
+        // A step that starts at or below J_c, or extends, is the plain one, bit for bit.
+        for k in [compress(0.01, 1.05), compress(-0.01, 1.05), compress((jc / 1.1).ln() - 1e-9, 1.1)] {
+            let (mut a, mut b) = ([-100.0, -90.0, -95.0, 10.0], [-100.0, -90.0, -95.0, 10.0]);
+            beads().with_disconnection(Some(jc)).update_stress(&mut a, &mut [0.0; 2], &k);
+            beads().update_stress(&mut b, &mut [0.0; 2], &k);
+            assert_eq!(a, b);
+        }
+    }
+
     #[test]
     fn registry_builds_it_by_name_and_names_bad_keys() {
         use serde_json::json;
@@ -317,6 +427,24 @@ mod tests {
         ] {
             let mut bad = table.clone();
             bad[key] = json!(value);
+            let p = Parameters::new("beads", bad.as_object().unwrap());
+            assert_eq!(build(&p).err().unwrap(), format!("materials.beads.{key}: {message}"));
+        }
+        // The disconnected state: J_c = ρ0/(φ_c ρ_s), and its keys checked.
+        let mut with = table.clone();
+        with["critical_packing_fraction"] = json!(0.55);
+        with["grain_density"] = json!(2500.0);
+        let m = DruckerPrager::from_parameters(&Parameters::new("beads", with.as_object().unwrap())).unwrap();
+        assert!((m.critical_jacobian.unwrap() - 0.62 / 0.55).abs() < 1e-12);
+        assert_eq!(DruckerPrager::from_parameters(&p).unwrap().critical_jacobian, None);
+        for (key, value, message) in [
+            ("grain_density", json!(null), "is required with critical_packing_fraction".to_string()),
+            ("grain_density", json!(1550.0), "must be > density = 1550 kg/m³ (packing as placed density/grain_density < 1; got 1550)".to_string()),
+            ("critical_packing_fraction", json!(0.63), "must be in (0, density/grain_density] = (0, 0.62] (got 0.63)".to_string()),
+            ("critical_packing_fraction", json!(0.0), "must be in (0, density/grain_density] = (0, 0.62] (got 0)".to_string()),
+        ] {
+            let mut bad = with.clone();
+            bad[key] = value;
             let p = Parameters::new("beads", bad.as_object().unwrap());
             assert_eq!(build(&p).err().unwrap(), format!("materials.beads.{key}: {message}"));
         }

@@ -261,6 +261,34 @@ impl<'a> Parameters<'a> {
         }
     }
 
+    /// The disconnection threshold J_c = ρ0/(φ_c ρ_s) of Dunatunga & Kamrin's disconnected
+    /// state (mohr_coulomb.rs, "Disconnected material"; drucker_prager.rs) from
+    /// `critical_packing_fraction` (φ_c) and `grain_density` (ρ_s), or `None` without a
+    /// `critical_packing_fraction`. The packing as placed, φ0 = ρ0/ρ_s (ρ0 = `density`), must be
+    /// < 1 and φ_c in (0, φ0] (a material placed looser than φ_c would start disconnected).
+    pub fn critical_jacobian(&self, density: f64) -> Result<Option<f64>, String> {
+        let Some(phi_c) = self.optional_f64("critical_packing_fraction")? else {
+            return Ok(None);
+        };
+        let rho_s = self
+            .optional_f64("grain_density")?
+            .ok_or_else(|| self.error("grain_density", "is required with critical_packing_fraction"))?;
+        if !(rho_s > density && rho_s.is_finite()) {
+            return Err(self.error(
+                "grain_density",
+                format!("must be > density = {density} kg/m³ (packing as placed density/grain_density < 1; got {rho_s})"),
+            ));
+        }
+        let phi0 = density / rho_s;
+        if !(phi_c > 0.0 && phi_c <= phi0) {
+            return Err(self.error(
+                "critical_packing_fraction",
+                format!("must be in (0, density/grain_density] = (0, {phi0}] (got {phi_c})"),
+            ));
+        }
+        Ok(Some(phi0 / phi_c))
+    }
+
     /// A number, `default` when not given.
     pub fn f64_or(&self, key: &str, default: f64) -> Result<f64, String> {
         Ok(self.optional_f64(key)?.unwrap_or(default))

@@ -541,36 +541,15 @@ impl MohrCoulomb {
             .with_cell_averaged_disconnection(cell))
     }
 
-    /// J_c = ρ0/(φ_c ρ_s) from `critical_packing_fraction` (φ_c) and `grain_density` (ρ_s), or
-    /// `None` without a `critical_packing_fraction`. The packing as placed, φ0 = ρ0/ρ_s, must be
-    /// < 1 and φ_c in (0, φ0] (a material placed looser than φ_c would start disconnected).
+    /// J_c ([`Parameters::critical_jacobian`]), refused together with `recompaction`.
     fn critical_jacobian_of(p: &Parameters, density: f64, recompaction: bool) -> Result<Option<f64>, String> {
-        let Some(phi_c) = p.optional_f64("critical_packing_fraction")? else {
-            return Ok(None);
-        };
-        if recompaction {
+        if recompaction && p.optional_f64("critical_packing_fraction")?.is_some() {
             return Err(p.error(
                 "critical_packing_fraction",
                 "cannot be combined with recompaction = true (both model separated material: choose one)",
             ));
         }
-        let rho_s = p
-            .optional_f64("grain_density")?
-            .ok_or_else(|| p.error("grain_density", "is required with critical_packing_fraction"))?;
-        if !(rho_s > density && rho_s.is_finite()) {
-            return Err(p.error(
-                "grain_density",
-                format!("must be > density = {density} kg/m³ (packing as placed density/grain_density < 1; got {rho_s})"),
-            ));
-        }
-        let phi0 = density / rho_s;
-        if !(phi_c > 0.0 && phi_c <= phi0) {
-            return Err(p.error(
-                "critical_packing_fraction",
-                format!("must be in (0, density/grain_density] = (0, {phi0}] (got {phi_c})"),
-            ));
-        }
-        Ok(Some(phi0 / phi_c))
+        p.critical_jacobian(density)
     }
 
     /// Mohr–Coulomb yield function f = k σ1 − σ3 − 2c√k of sorted principal stresses.

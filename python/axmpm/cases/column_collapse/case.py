@@ -531,9 +531,10 @@ class ColumnCollapse:
 
     def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
         result = case_result(run.name, run_dir, run.params.get("nominal_aspect_ratio", CASES.get(run.name)))
-        from .energy import energy_shares
+        from .energy import energy_shares, sideways_energy
 
         result["energy"] = energy_shares(run_dir)
+        result["sideways_energy"] = sideways_energy(run_dir)
         return result
 
     def cost(self, run: RunSpec) -> float:

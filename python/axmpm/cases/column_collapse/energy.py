@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["TERMS", "energy_history", "energy_shares", "plot_energy"]
+__all__ = ["TERMS", "energy_history", "energy_shares", "kinetic_energy_split", "sideways_energy", "plot_energy"]
 
 #: Budget terms (history.csv column, label), the sinks of the released potential energy.
 TERMS: tuple[tuple[str, str], ...] = (
@@ -57,6 +57,45 @@ def energy_shares(run_dir: str | Path) -> dict[str, Any] | None:
     released = float(h["gravity_work"][-1])
     shares = {key: (float(h[key][-1]) / released if released > 0 else None) for key, _ in TERMS}
     return {"time": float(h["time"][-1]), "released": released, "shares": shares}
+
+
+def kinetic_energy_split(frames: Any, gravity: Any) -> dict[str, np.ndarray]:
+    """Per output frame: time, the kinetic energy of the sideways (radial, or horizontal in
+    plane strain) motion ½ Σ m v_r², that of the vertical motion ½ Σ m v_z², and the potential
+    energy released so far Σ m g·(x − X0) (``gravity`` the vector, m/s²), all from the particles (the frames' masses: per
+    radian in axisymmetry, per metre in plane strain; only ratios are used).
+
+    Staron & Hinch (2005, JFM 545) explain the runout's power law by the share of the released
+    energy that goes into the sideways flow (the column falls, its base turns part of the fall
+    into spreading); this split measures that share in a run."""
+    g = np.asarray(gravity, dtype=float)
+    rows = []
+    for f in frames:
+        m, v = f.mass, f.v
+        rows.append((float(f.time), 0.5 * float((m * v[:, 0] ** 2).sum()), 0.5 * float((m * v[:, 1] ** 2).sum()),
+                     float((m * ((f.x - f.X0) @ g)).sum())))
+    t, sideways, vertical, released = (np.array(c, dtype=float) for c in zip(*rows)) if rows else [np.zeros(0)] * 4
+    return {"time": t, "sideways": sideways, "vertical": vertical, "released": released}
+
+
+def sideways_energy(run_dir: str | Path) -> dict[str, Any] | None:
+    """The peak kinetic energy of the sideways and of the vertical motion as shares of the
+    potential energy released by the end of the run (:func:`kinetic_energy_split` over the
+    run's frames), and the time of the sideways peak; None without frames or released energy."""
+    from ...run.output import load_run
+
+    run = load_run(run_dir)
+    if not run.frames:
+        return None
+    split = kinetic_energy_split(run.frames, run.scenario.simulation.gravity)
+    released = split["released"][-1]
+    if not released > 0.0:
+        return None
+    peak = int(np.argmax(split["sideways"]))
+    return {"peak_sideways_share": float(split["sideways"][peak] / released),
+            "peak_sideways_time": float(split["time"][peak]),
+            "released_share_at_peak": float(split["released"][peak] / released),
+            "peak_vertical_share": float(split["vertical"].max() / released)}
 
 
 def plot_energy(runs: list[tuple[str, Path]], path: Path) -> None:

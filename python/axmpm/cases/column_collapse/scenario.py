@@ -226,6 +226,9 @@ def collapse_scenario(
                 "youngs_modulus": youngs_modulus,
                 "poisson_ratio": poisson_ratio,
                 "friction": friction_coefficient,
+                **({"critical_packing_fraction": critical_packing_fraction,
+                    "grain_density": grain_density}
+                   if critical_packing_fraction is not None else {}),
             } if material_model == "drucker_prager" else {
                 "model": "mohr_coulomb",
                 "density": density,

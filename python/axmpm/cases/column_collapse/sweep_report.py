@@ -159,6 +159,11 @@ def _share(c: dict[str, Any], key: str) -> str:
     return DASH if v is None else f"{100 * v:.1f} %"
 
 
+def _sideways(c: dict[str, Any]) -> str:
+    v = (c.get("sideways_energy") or {}).get("peak_sideways_share")
+    return DASH if v is None else f"{100 * v:.1f} %"
+
+
 #: Table headers of the laws.
 SHORT_NAMES = {"lube2004": "Lube 2004", "lajeunesse2004_kk": "Lajeunesse 2004", "lube2005_planar": "Lube 2005",
                "lajeunesse2005_planar": "Lajeunesse 2005", "kumar2015_dem": "Kumar 2D DEM"}
@@ -169,12 +174,13 @@ def sweep_table(cases: list[dict[str, Any]]) -> str:
     head = " | ".join(f"{SHORT_NAMES.get(law.key, law.label)} | diff" for law in laws)
     first = SHORT_NAMES.get(laws[0].key, laws[0].label)
     lines = [f"| run | a | cells/R_i | (R∞−R_i)/R_i | {head} | at 3 d | diff | mass beyond {first} | "
-             "H∞/R_i | mean J | plastic | base friction | base impact | kinetic | residual | wall s | status |",
-             "|---|---|---|---|" + "---|---|" * len(laws) + "---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "H∞/R_i | mean J | peak sideways KE | plastic | base friction | base impact | kinetic | residual | wall s | "
+             "status |",
+             "|---|---|---|---|" + "---|---|" * len(laws) + "---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for c in cases:
         if "laws" not in c:
             lines.append(f"| {c['name']} | {c.get('nominal_aspect_ratio', DASH)} | "
-                         + " | ".join([DASH] * (12 + 2 * len(laws)))
+                         + " | ".join([DASH] * (13 + 2 * len(laws)))
                          + f" | {fmt(c.get('wall_seconds'), '.0f')} | {c['status']}: {c.get('message', '')} |")
             continue
         cells = []
@@ -190,7 +196,7 @@ def sweep_table(cases: list[dict[str, Any]]) -> str:
             f"{pct((c.get('runout_3_grains_rel_diff') or {}).get(laws[0].key), 1)} | "
             f"{pct((c.get('mass_beyond_law') or {}).get(laws[0].key), 1, signed=False)} | "
             f"{c['final_height_normalised']:.3f} | {c.get('volume_ratio_mean', float('nan')):.3f} | "
-            f"{_share(c, 'plastic_work')} | {_share(c, 'boundary_friction_dissipation')} | "
+            f"{_sideways(c)} | {_share(c, 'plastic_work')} | {_share(c, 'boundary_friction_dissipation')} | "
             f"{_share(c, 'boundary_normal_dissipation')} | {_share(c, 'kinetic_energy')} | "
             f"{_share(c, 'energy_residual')} | {fmt(c.get('wall_seconds'), '.0f')} | {c['status']} |")
     return "\n".join(lines)
@@ -326,9 +332,12 @@ docs/physics.md §6, `axmpm/cases/column_collapse/laws.py`.
 
 {_laws_note(_formulation(cases))} mean J = V/V0 over the deposit's particles at the last frame. Energy
 columns: shares of the potential energy released at the last output (docs/physics.md §1,
-"Energy budget"): plastic = Σ σ:Δε^p of the Mohr–Coulomb returns, base friction / impact = the
+"Energy budget"): plastic = the material's own dissipation (Σ σ:Δε^p of its returns), base friction / impact = the
 tangential / normal kinetic energy removed by the base's velocity corrections, residual = what
-the scheme loses (released − all terms).
+the scheme loses (released − all terms). Peak sideways KE: the largest kinetic energy of the
+radial (plane strain: horizontal) motion over the output frames, as a share of the potential
+energy released by the end (Staron & Hinch 2005's "energy available for the sideways flow";
+`energy.sideways_energy`).
 
 ## Energy budget
 

@@ -28,7 +28,7 @@ from pydantic import Field
 from ..fields import Positive, Section, bounded
 
 __all__ = ["MaterialModel", "ElasticMaterial", "register_material", "MATERIAL_MODELS", "material_type",
-           "model_names"]
+           "model_names", "critical_packing_errors"]
 
 #: model name → section class, in registration order (see :func:`model_names` for the order used).
 MATERIAL_MODELS: dict[str, type["MaterialModel"]] = {}
@@ -57,6 +57,29 @@ class ElasticMaterial(MaterialModel):
 
     def default_k0(self) -> float:
         return self.poisson_ratio / (1.0 - self.poisson_ratio)
+
+
+def critical_packing_errors(prefix: str, density: float, grain_density: float | None,
+                            critical_packing_fraction: float | None) -> list[tuple[str, str]]:
+    """The checks of a ``critical_packing_fraction`` (the disconnected state of mohr_coulomb and
+    drucker_prager): ``grain_density`` given and > ``density``, and φ_c ≤ φ0 = density /
+    grain_density (material placed looser than φ_c would start disconnected)."""
+    from ..fields import fmt
+
+    if critical_packing_fraction is None:
+        return []
+    if grain_density is None:
+        return [(f"{prefix}grain_density", "is required with critical_packing_fraction")]
+    if not grain_density > density:
+        return [(f"{prefix}grain_density",
+                 f"must be > density = {fmt(density)} with critical_packing_fraction "
+                 f"(packing as placed density/grain_density < 1; got {fmt(grain_density)})")]
+    packing = density / grain_density
+    if critical_packing_fraction > packing:
+        return [(f"{prefix}critical_packing_fraction",
+                 f"must be in (0, density/grain_density] = (0, {fmt(packing)}] "
+                 f"(got {fmt(critical_packing_fraction)})")]
+    return []
 
 
 def register_material(name: str) -> Callable[[type[MaterialModel]], type[MaterialModel]]:

@@ -11,7 +11,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from ..fields import NonNegative, Positive, bounded, fmt
-from . import ElasticMaterial, register_material
+from . import ElasticMaterial, critical_packing_errors, register_material
 
 #: Mohr–Coulomb ``recompaction`` when a scenario does not set it (same as the engine's
 #: ``mohr_coulomb::RECOMPACTION_DEFAULT``).
@@ -114,21 +114,9 @@ class MohrCoulomb(ElasticMaterial):
             errors.append((f"{prefix}cell_averaged_disconnection",
                            "= true needs critical_packing_fraction (it changes how the disconnected "
                            "state is detected)"))
-        if self.critical_packing_fraction is not None:
-            if self.recompaction:
-                errors.append((f"{prefix}critical_packing_fraction",
-                               "cannot be combined with recompaction = true (both model separated "
-                               "material: choose one)"))
-            if self.grain_density is None:
-                errors.append((f"{prefix}grain_density", "is required with critical_packing_fraction"))
-            elif not self.grain_density > self.density:
-                errors.append((f"{prefix}grain_density",
-                               f"must be > density = {fmt(self.density)} with critical_packing_fraction "
-                               f"(packing as placed density/grain_density < 1; got {fmt(self.grain_density)})"))
-            else:
-                packing = self.density / self.grain_density
-                if self.critical_packing_fraction > packing:
-                    errors.append((f"{prefix}critical_packing_fraction",
-                                   f"must be in (0, density/grain_density] = (0, {fmt(packing)}] "
-                                   f"(got {fmt(self.critical_packing_fraction)})"))
+        if self.critical_packing_fraction is not None and self.recompaction:
+            errors.append((f"{prefix}critical_packing_fraction",
+                           "cannot be combined with recompaction = true (both model separated "
+                           "material: choose one)"))
+        errors += critical_packing_errors(prefix, self.density, self.grain_density, self.critical_packing_fraction)
         return errors
