@@ -356,10 +356,11 @@ mod tests {
     /// Bulk modulus of `beads()`, Pa.
     const BULK: f64 = 1e6 / (3.0 * (1.0 - 2.0 * 0.3));
 
-    /// Isotropic compression by `compaction` (−tr Δε) over one step, at end-of-step J `jacobian`.
+    /// Compression by `compaction` (−tr Δε) over one step, at end-of-step J `jacobian`: radial
+    /// and hoop rates equal, the axial one twice as large (every component in the trace).
     fn compress(compaction: f64, jacobian: f64) -> Kinematics {
-        let rate = -compaction / 2.0 / 1e-4; // ε̇_rr = ε̇_zz, no hoop rate (tr = 2 × rate × dt)
-        Kinematics { jacobian, ..kinematics([rate, 0.0, 0.0, rate, 0.0], 1e-4) }
+        let rate = -compaction / 4.0 / 1e-4; // tr Δε = (1 + 2 + 1) × rate × dt
+        Kinematics { jacobian, ..kinematics([rate, 0.0, 0.0, 2.0 * rate, rate], 1e-4) }
     }
 
     #[test]
