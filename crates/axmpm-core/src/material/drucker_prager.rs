@@ -104,7 +104,8 @@ impl DruckerPrager {
     }
 
     /// From a `drucker_prager` table; every key is required (the scenario front end fills the
-    /// documented defaults). Errors name `materials.NAME.KEY` and the allowed range.
+    /// documented defaults) but the optional `critical_packing_fraction` and `grain_density`.
+    /// Errors name `materials.NAME.KEY` and the allowed range.
     pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
         let density = p.positive("density", " kg/m³")?;
         let youngs_modulus = p.positive("youngs_modulus", " Pa")?;
