@@ -44,9 +44,6 @@ pub struct Scratch {
     pub velocity_gradient: Vec<[f64; 5]>,
     pub cell_volume: Vec<f64>,
     pub cell_dilatation: Vec<f64>,
-    /// Cell averaging only: per background cell the volume-weighted mean pressure of the
-    /// start-of-step stresses, which the internal force uses (`particle_to_grid`).
-    pub cell_pressure: Vec<f64>,
     /// A material reads the cells' mean J ([`crate::material::Material::needs_cell_jacobian`]):
     /// per background cell Σ V0 and then Σ V / Σ V0 of the particles whose centre lies in it,
     /// at the start of the step.
@@ -203,7 +200,6 @@ impl State {
             self.scratch.velocity_gradient = vec![[0.0; 5]; n];
             self.scratch.cell_volume = vec![0.0; cells];
             self.scratch.cell_dilatation = vec![0.0; cells];
-            self.scratch.cell_pressure = vec![0.0; cells];
         }
         if self.parameters.cell_jacobian {
             let cells = self.grid.cells[0] * self.grid.cells[1];

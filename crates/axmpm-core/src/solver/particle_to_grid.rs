@@ -2,22 +2,11 @@
 //! force f_i = f_int + f_ext (docs/physics.md §1–2), with
 //! f_int = −Σ_p V_p σ_p·∇S_ip (plus the hoop term −V_p σ_θθ S_ip / R_p in axisymmetry) and
 //! f_ext = Σ_p S_ip m_p g.
-//!
-//! With cell-averaged dilatation (F-bar, `particle_update`) the stress update sees each
-//! background cell's mean dilatation instead of the particle's own, so the internal force
-//! takes each cell's mean pressure p̄_c = Σ V p / Σ V instead of the particle's own: σ is
-//! replaced by σ + (p − p̄_c) 1 over the normal components the averaging spreads over (the
-//! in-plane pair in plane strain, with p their mean; the in-plane and hoop ones in
-//! axisymmetry, p = −tr σ/3). The power of the internal forces is then the stress power the
-//! update and the materials' energy booking use, Σ V σ : D̄ (the mixed, B-bar-consistent
-//! pair; the deviatoric part is the particle's own in both), instead of differing from it by
-//! Σ V (p − p̄)(tr D − tr D̄) (docs/physics.md §1, "Cell-averaged dilatation").
 
 use rayon::prelude::*;
 
 use super::tiles::{inside, zero_box, Shared, TileReach, COLOURS};
 use super::State;
-use crate::config::VolumetricAveraging;
 use crate::formulation::Formulation;
 use crate::grid::{GridGeometry, NodeBox};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
@@ -35,55 +24,7 @@ struct NodalTargets {
 /// colour (see [`super::tiles`]). Computes each particle's stencil cache for the step.
 #[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity: [f64; 2], cache: &mut [S::Cache]) {
-    if state.parameters.volumetric_averaging == VolumetricAveraging::Cell {
-        particle_to_grid_with::<F, S, true>(state, gravity, cache)
-    } else {
-        particle_to_grid_with::<F, S, false>(state, gravity, cache)
-    }
-}
-
-/// The normal-stress mean the cell averaging replaces (module doc): −(σ_rr + σ_zz + σ_θθ)/3 in
-/// axisymmetry, −(σ_xx + σ_yy)/2 in plane strain.
-#[inline(always)]
-fn averaged_pressure<F: Formulation>(s: &[f64; 4]) -> f64 {
-    if F::AXISYMMETRIC {
-        -(s[0] + s[1] + s[2]) / 3.0
-    } else {
-        -(s[0] + s[1]) / 2.0
-    }
-}
-
-/// Per background cell, the volume-weighted mean of [`averaged_pressure`] over the particles
-/// whose centre lies in it (0 in empty cells), into `mean`; `volume_sum` is scratch. Summed in
-/// particle order on one thread: independent of the thread count.
-fn cell_mean_pressure<F: Formulation>(grid: &GridGeometry, particles: &Particles, volume_sum: &mut [f64], mean: &mut [f64]) {
-    volume_sum.fill(0.0);
-    mean.fill(0.0);
-    for ((x, &v), s) in particles.position.iter().zip(&particles.volume).zip(&particles.stress) {
-        let cell = grid.cell_index(*x);
-        volume_sum[cell] += v;
-        mean[cell] += v * averaged_pressure::<F>(s);
-    }
-    for (m, &v) in mean.iter_mut().zip(volume_sum.iter()) {
-        if v > 0.0 {
-            *m /= v;
-        }
-    }
-}
-
-#[inline(always)]
-fn particle_to_grid_with<F: Formulation, S: ShapeFunction, const AVERAGED: bool>(
-    state: &mut State,
-    gravity: [f64; 2],
-    cache: &mut [S::Cache],
-) {
     let grid = state.grid;
-    if AVERAGED {
-        let serial_start = std::time::Instant::now();
-        let scratch = &mut state.scratch;
-        cell_mean_pressure::<F>(&grid, &state.particles, &mut scratch.cell_volume, &mut scratch.cell_pressure);
-        state.timings.serial += serial_start.elapsed().as_secs_f64();
-    }
     let nodes_x = grid.nodes[0];
     // Every field is +0 outside the nodes the particles reached last step.
     let previous = state.scratch.grid_reached;
@@ -96,7 +37,6 @@ fn particle_to_grid_with<F: Formulation, S: ShapeFunction, const AVERAGED: bool>
         force: Shared::new(&mut state.fields.force),
     };
     let particles = &state.particles;
-    let mean_pressure = &state.scratch.cell_pressure[..];
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
     let isa = state.parameters.isa;
@@ -109,9 +49,7 @@ fn particle_to_grid_with<F: Formulation, S: ShapeFunction, const AVERAGED: bool>
             let cache = unsafe { caches.slice(tile.range()) };
             *reach = isa.run(
                 #[inline(always)]
-                || unsafe {
-                    scatter::<F, S, AVERAGED>(&grid, gravity, particles, mean_pressure, tile.range(), tile.zone(), cache, targets, false)
-                },
+                || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, false) },
             );
         });
         // The particles that left their tile's zone, on this thread, in array order.
@@ -122,9 +60,7 @@ fn particle_to_grid_with<F: Formulation, S: ShapeFunction, const AVERAGED: bool>
                 let cache = unsafe { caches.slice(tile.range()) };
                 isa.run(
                     #[inline(always)]
-                    || unsafe {
-                        scatter::<F, S, AVERAGED>(&grid, gravity, particles, mean_pressure, tile.range(), tile.zone(), cache, targets, true)
-                    },
+                    || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, true) },
                 );
             }
         }
@@ -138,16 +74,14 @@ fn particle_to_grid_with<F: Formulation, S: ShapeFunction, const AVERAGED: bool>
 
 /// Adds the particles `range` to the nodes: with `overflow` false, prepares each particle's
 /// stencil cache and adds the particles whose stencil stays in `zone`; with `overflow` true
-/// (after the colour's parallel part), adds the others. `AVERAGED`: the internal force takes
-/// each cell's mean pressure `mean_pressure` (module doc).
+/// (after the colour's parallel part), adds the others.
 /// SAFETY: no other thread writes to the nodes this call writes to (see [`super::tiles`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-unsafe fn scatter<F: Formulation, S: ShapeFunction, const AVERAGED: bool>(
+unsafe fn scatter<F: Formulation, S: ShapeFunction>(
     grid: &GridGeometry,
     gravity: [f64; 2],
     particles: &Particles,
-    mean_pressure: &[f64],
     range: std::ops::Range<usize>,
     zone: NodeBox,
     cache: &mut [S::Cache],
@@ -196,16 +130,7 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction, const AVERAGED: bool>(
         let m = mass[i];
         let v = velocity[i];
         let vol = volume[i];
-        let mut s = stress[i];
-        if AVERAGED {
-            // σ + (p − p̄_c) 1 on the averaged normal components (module doc).
-            let shift = averaged_pressure::<F>(&s) - mean_pressure[grid.cell_index(position[i])];
-            s[0] += shift;
-            s[1] += shift;
-            if F::AXISYMMETRIC {
-                s[2] += shift;
-            }
-        }
+        let s = stress[i];
         let momentum = [m * v[0], m * v[1]];
         let minus_vs = [-vol * s[0], -vol * s[1], -vol * s[3]];
         // (No hoop term in plane strain, where it would be −V σ_θθ · 0.)
