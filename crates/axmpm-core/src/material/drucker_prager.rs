@@ -60,7 +60,8 @@
 //!   energy budget (as granular_fluidity.rs).
 
 use super::{
-    jaumann_rotation, p_wave_speed, pressure_and_shear, rate_of_deformation, stable_jacobian, stress_power, Kinematics,
+    jaumann_rotation, pressure_and_shear, rate_of_deformation, stable_jacobian, stress_power, take_out_disconnected_compaction,
+    Kinematics,
     LinearElastic, Material, Parameters,
 };
 use crate::particles::Stress;
@@ -129,13 +130,13 @@ impl Material for DruckerPrager {
         self.elastic.density
     }
     fn wave_speed(&self) -> f64 {
-        p_wave_speed(self.elastic.youngs_modulus, self.elastic.poisson_ratio, self.elastic.density)
+        self.elastic.wave_speed()
     }
     fn state_names(&self) -> &'static [&'static str] {
         &STATE_NAMES
     }
     fn elastic_energy_density(&self, stress: &Stress) -> f64 {
-        super::complementary_energy(stress, self.elastic.youngs_modulus, self.elastic.poisson_ratio)
+        self.elastic.elastic_energy_density(stress)
     }
 
     fn limit_wave_speed(&mut self, max_wave_speed: f64) {
@@ -154,7 +155,7 @@ impl Material for DruckerPrager {
             if k.jacobian > jc {
                 disconnected = true;
             } else {
-                reconnect(&mut strain, k.jacobian, jc);
+                take_out_disconnected_compaction(&mut strain, k.jacobian, jc);
             }
         }
         let stiffness = if k.jacobian > self.stable_jacobian { self.stable_jacobian / k.jacobian } else { 1.0 };
@@ -184,23 +185,6 @@ impl Material for DruckerPrager {
         let power = stress_power(&start, &d, k.dt);
         let stored = self.elastic_energy_density(stress) - self.elastic_energy_density(&start);
         state[WORK_SLOT] += k.jacobian * (power - stored);
-    }
-}
-
-/// Re-connection (module doc, "Disconnected material"): the part of a compressive strain
-/// increment done while J was still above J_c, ln(J_n/J_c) with ln J_n = ln J − tr Δε, is
-/// taken out of `strain` (isotropically), so that it is stored nowhere.
-#[inline(always)]
-fn reconnect(strain: &mut [f64; 4], jacobian: f64, critical_jacobian: f64) {
-    let compaction = -(strain[0] + strain[1] + strain[2]);
-    if compaction > 0.0 {
-        let excess = jacobian.ln() + compaction - critical_jacobian.ln();
-        if excess > 0.0 {
-            let third = excess.min(compaction) / 3.0;
-            for c in 0..3 {
-                strain[c] += third;
-            }
-        }
     }
 }
 

@@ -55,7 +55,7 @@
 //!   stored (complementary) elastic energy W_e, so that the model leaves no residual of its own
 //!   in the energy budget (the frictional dissipation; separation releases the stored energy).
 
-use super::{p_wave_speed, pressure_and_shear, rate_of_deformation, stress_power, Kinematics, LinearElastic, Material, Parameters};
+use super::{pressure_and_shear, rate_of_deformation, stress_power, Kinematics, LinearElastic, Material, Parameters};
 use crate::particles::Stress;
 
 const STATE_NAMES: [&str; 5] =
@@ -167,7 +167,7 @@ impl Material for GranularFluidity {
         self.elastic.density
     }
     fn wave_speed(&self) -> f64 {
-        p_wave_speed(self.elastic.youngs_modulus, self.elastic.poisson_ratio, self.elastic.density)
+        self.elastic.wave_speed()
     }
     fn state_names(&self) -> &'static [&'static str] {
         &STATE_NAMES
@@ -176,7 +176,7 @@ impl Material for GranularFluidity {
         Some([FLUIDITY_SLOT, NEIGHBOUR_SUM_SLOT, DIAGONAL_SLOT])
     }
     fn elastic_energy_density(&self, stress: &Stress) -> f64 {
-        super::complementary_energy(stress, self.elastic.youngs_modulus, self.elastic.poisson_ratio)
+        self.elastic.elastic_energy_density(stress)
     }
 
     #[inline(always)]

@@ -316,6 +316,28 @@ impl<'a> Parameters<'a> {
     }
 }
 
+/// Re-connection of Dunatunga & Kamrin's disconnected state (mohr_coulomb.rs, "Disconnected
+/// material", rule 2; drucker_prager.rs): the part of a compressive strain increment `strain`
+/// done while J was still above J_c, ln(J_n/J_c) with ln J_n = ln J − tr Δε (`jacobian` the
+/// end-of-step J), is taken out of it isotropically, so that it is stored nowhere. Returns the
+/// compaction taken out (0 when the step started at or below J_c, or extends).
+#[inline(always)]
+pub fn take_out_disconnected_compaction(strain: &mut [f64; 4], jacobian: f64, critical_jacobian: f64) -> f64 {
+    let dv = strain[0] + strain[1] + strain[2];
+    if dv < 0.0 {
+        let excess = jacobian.ln() - dv - critical_jacobian.ln();
+        if excess > 0.0 {
+            let closed = excess.min(-dv);
+            let third = closed / 3.0;
+            strain[0] += third;
+            strain[1] += third;
+            strain[2] += third;
+            return closed;
+        }
+    }
+    0.0
+}
+
 /// Builds a model from its parameters.
 pub type ModelBuilder = fn(&Parameters) -> Result<Box<dyn Material>, String>;
 

@@ -742,23 +742,15 @@ impl MohrCoulomb {
         }
     }
 
-    /// Re-connection (module doc, "Disconnected material", rule 2): the part of a compressive
-    /// strain increment done while J was still above J_c, ln(J_n/J_c) with
-    /// ln J_n = ln J − tr dε, is taken out of `de` and booked as plastic compaction.
+    /// Re-connection (module doc, "Disconnected material", rule 2): the compaction done while J
+    /// was still above J_c is taken out of `de` ([`super::take_out_disconnected_compaction`])
+    /// and booked as plastic compaction.
     #[inline(always)]
     fn reconnect(de: &mut [f64; 4], state: &mut [f64], jacobian: f64, critical_jacobian: f64) {
-        let dv = de[0] + de[1] + de[2];
-        if dv < 0.0 {
-            let excess = jacobian.ln() - dv - critical_jacobian.ln();
-            if excess > 0.0 {
-                let closed = excess.min(-dv);
-                let third = closed / 3.0;
-                de[0] += third;
-                de[1] += third;
-                de[2] += third;
-                if let Some(vol) = state.get_mut(1) {
-                    *vol -= closed;
-                }
+        let closed = super::take_out_disconnected_compaction(de, jacobian, critical_jacobian);
+        if closed > 0.0 {
+            if let Some(vol) = state.get_mut(1) {
+                *vol -= closed;
             }
         }
     }

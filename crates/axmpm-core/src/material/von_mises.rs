@@ -31,7 +31,7 @@
 //!   increment is ΔW_p = J_{n+1} · ½(σ_y(ε̄p_n) + σ_y(ε̄p_{n+1})) · Δε̄p — the mid-point rule,
 //!   exact for a linear σ_y(ε̄p) (∫ σ_y dε̄p = σ_y Δε̄p + ½ H Δε̄p², whatever the step).
 
-use super::{jaumann_rotation, p_wave_speed, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
+use super::{jaumann_rotation, rate_of_deformation, Kinematics, LinearElastic, Material, Parameters};
 use crate::particles::Stress;
 
 const STATE_NAMES: [&str; 2] = ["plastic_strain", "plastic_work"];
@@ -134,7 +134,7 @@ impl Material for VonMises {
         self.elastic.density
     }
     fn wave_speed(&self) -> f64 {
-        p_wave_speed(self.elastic.youngs_modulus, self.elastic.poisson_ratio, self.elastic.density)
+        self.elastic.wave_speed()
     }
     fn state_names(&self) -> &'static [&'static str] {
         &STATE_NAMES
