@@ -213,6 +213,15 @@ def test_tiny_validate_run(tmp_path):
     # the sideways share of the released energy (Staron & Hinch's measure), a share below 1
     side = case["sideways_energy"]
     assert 0.0 < side["peak_sideways_share"] < 1.0 and 0.0 < side["peak_sideways_time"] <= 0.06
+    # the plastic work split by Lode parameter: shares of one whole, the total at least the
+    # work the last frame holds (increments that go negative count as nothing)
+    lode = case["plastic_work_by_lode"]
+    assert sum(lode["shares"].values()) == pytest.approx(1.0)
+    from axmpm.run.output import load_run
+
+    last = load_run(out / case["run_dir"]).last
+    held = float((last.state[:, list(last.state_names).index("plastic_work")] * last.volume0).sum())
+    assert lode["plastic_work"] >= held * (1 - 1e-12) > 0.0
 
 
 @pytest.mark.parametrize("formulation", ["axisymmetric", "plane_strain"])
@@ -336,6 +345,64 @@ def test_kinetic_energy_split_of_given_frames():
     assert split["released"][0] == pytest.approx(2.0 * 10.0 * 0.5 - 3.0 * 10.0 * 0.25)
     # a sideways gravity releases energy with sideways displacement
     assert kinetic_energy_split([frame], (-10.0, 0.0))["released"][0] == pytest.approx(-2.0 * 10.0 * 0.2)
+
+
+def test_lode_parameter_of_the_reference_states():
+    """ξ = −1 for triaxial compression, 0 for shear, +1 for triaxial extension, whatever the
+    in-plane orientation (a state rotated in the 1–2 plane keeps its ξ), NaN without deviator."""
+    from axmpm.cases.column_collapse.energy import lode_parameter
+
+    def rotated(s11, s22, s33, angle):
+        c, s = np.cos(angle), np.sin(angle)
+        return [c * c * s11 + s * s * s22, s * s * s11 + c * c * s22, s33, c * s * (s11 - s22)]
+
+    stresses = np.array([
+        [-3.0, -1.0, -1.0, 0.0],  # compression along 1
+        rotated(-1.0, -3.0, -1.0, 0.4),  # compression along a rotated in-plane axis
+        [-1.0, -1.0, -3.0, 0.0],  # compression along the hoop
+        [-2.0, -1.0, 0.0, 0.0],  # middle stress the mean: shear
+        [0.0, 0.0, 0.0, 1.5],  # simple shear in the plane
+        [-1.0, -3.0, -3.0, 0.0],  # extension along 1
+        rotated(-3.0, -1.0, -3.0, 1.1),  # extension along a rotated in-plane axis
+        [-2.0, -2.0, -2.0, 0.0],  # isotropic
+        [0.0, 0.0, 0.0, 0.0],  # stress-free
+    ])
+    xi = lode_parameter(stresses)
+    assert xi[:7] == pytest.approx([-1.0, -1.0, -1.0, 0.0, 0.0, 1.0, 1.0], abs=1e-12)
+    assert np.isnan(xi[7:]).all()
+    # an intermediate state by hand: s = (−4/3, 1/6, 7/6), J2 = 19/12, J3 = −7/27
+    assert lode_parameter(np.array([[-2.5, -1.0, 0.0, 0.0]]))[0] == pytest.approx(
+        1.5 * np.sqrt(3) * (-7 / 27) / (19 / 12) ** 1.5, rel=1e-12)
+
+
+def test_plastic_work_is_booked_by_the_lode_parameter_of_each_interval():
+    """Each frame's increase of plastic_work × V0 goes to the bin of the particle's ξ at that
+    frame; the first frame counts from zero, a decrease counts as nothing."""
+    from types import SimpleNamespace
+
+    from axmpm.cases.column_collapse.energy import plastic_work_by_lode
+
+    compression, shear, extension, free = [-3.0, -1.0, -1.0, 0.0], [0.0, 0.0, 0.0, 1.0], [-1.0, -3.0, -3.0, 0.0], [0.0] * 4
+    names = ["plastic_shear_strain", "plastic_work"]
+    volume0 = np.array([2.0, 1.0, 1.0, 1.0])
+
+    def frame(work, stress):
+        return SimpleNamespace(state_names=names, volume0=volume0, stress=np.array(stress),
+                               state=np.column_stack([np.zeros(4), work]))
+
+    frames = [frame([1.0, 0.0, 0.0, 0.0], [compression, shear, extension, free]),
+              frame([1.5, 3.0, 1.0, 2.0], [shear, shear, extension, free]),
+              frame([1.5, 2.0, 1.0, 2.0], [shear, compression, compression, free])]  # a decrease: nothing
+    out = plastic_work_by_lode(frames)
+    # compression 2×1 (frame 1); shear 2×0.5 + 3 (frame 2); extension 1; stress-free 2
+    assert out["plastic_work"] == pytest.approx(9.0)
+    assert out["shares"] == pytest.approx({"compression": 2 / 9, "shear": 4 / 9, "extension": 1 / 9,
+                                           "stress_free": 2 / 9})
+    assert out["mean_lode_parameter"] == pytest.approx((-2.0 + 0.0 + 1.0) / 7.0)
+    # no plastic_work state, or no plastic work: nothing to split
+    assert plastic_work_by_lode([SimpleNamespace(state_names=["x"], volume0=volume0, stress=np.zeros((4, 4)),
+                                                 state=np.zeros((4, 1)))]) is None
+    assert plastic_work_by_lode([frame(np.zeros(4), [shear] * 4)]) is None
 
 
 def test_sideways_energy_of_a_block_thrown_sideways_in_free_fall(tmp_path):

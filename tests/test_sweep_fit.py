@@ -97,10 +97,16 @@ def test_the_report_says_which_law_each_branch_follows(tmp_path):
     assert [g["range"] for g in law_agreement(cases[:3], None)] == ["all a"]
     # the peak sideways kinetic energy of each run, a dash where it is missing
     cases[4]["sideways_energy"] = {"peak_sideways_share": 0.1871}
+    cases[4]["plastic_work_by_lode"] = {"shares": {"compression": 0.4331}}
     rows = [line for line in sweep_report(cases, tmp_path, {"formulation": "axisymmetric", "overrides": []},
                                           figures=False).splitlines() if line.startswith("| a")]
     assert "| peak sideways KE |" in text
     assert "| 18.7 % |" in rows[4] and "18.7 %" not in rows[3] and len(rows) == 9
+    # the share of the plastic work near triaxial compression, a dash where it is missing
+    header = next(line for line in text.splitlines() if line.startswith("| run |"))
+    assert "| plastic | of it near compression | base friction |" in header
+    assert "| 43.3 % |" in rows[4] and "43.3 %" not in rows[3]
+    assert all(r.count("|") == header.count("|") for r in rows)
 
 
 def test_plane_strain_sweep_is_tabulated_against_the_planar_laws(tmp_path):

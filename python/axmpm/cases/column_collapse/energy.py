@@ -16,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["TERMS", "energy_history", "energy_shares", "kinetic_energy_split", "sideways_energy", "plot_energy"]
+__all__ = ["TERMS", "energy_history", "energy_shares", "kinetic_energy_split", "sideways_energy", "lode_parameter",
+           "plastic_work_by_lode", "lode_work_shares", "plot_energy"]
 
 #: Budget terms (history.csv column, label), the sinks of the released potential energy.
 TERMS: tuple[tuple[str, str], ...] = (
@@ -96,6 +97,77 @@ def sideways_energy(run_dir: str | Path) -> dict[str, Any] | None:
             "peak_sideways_time": float(split["time"][peak]),
             "released_share_at_peak": float(split["released"][peak] / released),
             "peak_vertical_share": float(split["vertical"].max() / released)}
+
+
+def lode_parameter(stress: Any) -> np.ndarray:
+    """ξ = (3√3/2) J₃ / J₂^{3/2} of each stress row ``[σ11, σ22, σ33, σ12]`` (σ33 the hoop or
+    out-of-plane stress; tension positive), the cosine of three times the Lode angle:
+    ξ = −1 in triaxial compression (one principal stress more compressive than the two
+    others, which are equal: the state of a compressed cylinder), 0 in pure shear
+    (plane-strain-like: the middle principal stress is the mean of the others), +1 in
+    triaxial extension. NaN where the deviator is zero (stress-free, or isotropic)."""
+    s = np.asarray(stress, dtype=float)
+    p = (s[:, 0] + s[:, 1] + s[:, 2]) / 3.0
+    d11, d22, d33, d12 = s[:, 0] - p, s[:, 1] - p, s[:, 2] - p, s[:, 3]
+    j2 = 0.5 * (d11**2 + d22**2 + d33**2) + d12**2
+    j3 = d33 * (d11 * d22 - d12**2)  # det of the deviator (σ33 is a principal stress)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        xi = 1.5 * np.sqrt(3.0) * j3 / j2**1.5
+    xi[~(j2 > 1e-24 * np.maximum(p * p, 1e-300))] = np.nan
+    return np.clip(xi, -1.0, 1.0)
+
+
+#: Lode-parameter bins of :func:`plastic_work_by_lode`: (key, test on ξ).
+LODE_BINS: tuple[tuple[str, Any], ...] = (
+    ("compression", lambda xi: xi < -0.5),
+    ("shear", lambda xi: np.abs(xi) <= 0.5),
+    ("extension", lambda xi: xi > 0.5),
+    ("stress_free", np.isnan),
+)
+
+
+def plastic_work_by_lode(frames: Any) -> dict[str, Any] | None:
+    """How the plastic work of a run splits over the Lode parameter (:func:`lode_parameter`).
+
+    The work each particle dissipates between two output frames (the increase of its
+    ``plastic_work`` state, J per reference volume, times V0) is booked at the particle's
+    Lode parameter at the later frame: near triaxial compression (ξ < −½), near shear
+    (|ξ| ≤ ½), near triaxial extension (ξ > ½), or stress-free at that frame. A pressure-
+    dependent yield cone calibrated in shear (Drucker–Prager with √J₂ = μ p) and a Mohr–Coulomb
+    pyramid with the same shear strength (sin φ = μ) differ most in triaxial compression, where
+    Mohr–Coulomb is stronger (q/p = 6 sin φ / (3 − sin φ) against √3 μ), so the compression
+    share says how much the choice of cone can matter for a run. None without a
+    ``plastic_work`` state or without plastic work."""
+    total = 0.0
+    weighted_xi = 0.0
+    sums = {key: 0.0 for key, _ in LODE_BINS}
+    previous = None
+    for f in frames:
+        names = list(getattr(f, "state_names", None) or [])
+        if "plastic_work" not in names:
+            return None
+        work = f.state[:, names.index("plastic_work")] * f.volume0
+        increment = np.clip(work - (0.0 if previous is None else previous), 0.0, None)
+        previous = work
+        xi = lode_parameter(f.stress)
+        for key, test in LODE_BINS:
+            sums[key] += float(increment[test(xi)].sum())
+        total += float(increment.sum())
+        defined = ~np.isnan(xi)
+        weighted_xi += float((increment[defined] * xi[defined]).sum())
+    if not total > 0.0:
+        return None
+    with_stress = total - sums["stress_free"]
+    return {"plastic_work": total, "shares": {key: v / total for key, v in sums.items()},
+            "mean_lode_parameter": weighted_xi / with_stress if with_stress > 0.0 else None}
+
+
+def lode_work_shares(run_dir: str | Path) -> dict[str, Any] | None:
+    """:func:`plastic_work_by_lode` over a run's output frames (None without frames)."""
+    from ...run.output import load_run
+
+    run = load_run(run_dir)
+    return plastic_work_by_lode(run.frames) if run.frames else None
 
 
 def plot_energy(runs: list[tuple[str, Path]], path: Path) -> None:

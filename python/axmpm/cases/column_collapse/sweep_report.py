@@ -159,6 +159,11 @@ def _share(c: dict[str, Any], key: str) -> str:
     return DASH if v is None else f"{100 * v:.1f} %"
 
 
+def _compression_work(c: dict[str, Any]) -> str:
+    v = ((c.get("plastic_work_by_lode") or {}).get("shares") or {}).get("compression")
+    return DASH if v is None else f"{100 * v:.1f} %"
+
+
 def _sideways(c: dict[str, Any]) -> str:
     v = (c.get("sideways_energy") or {}).get("peak_sideways_share")
     return DASH if v is None else f"{100 * v:.1f} %"
@@ -174,13 +179,13 @@ def sweep_table(cases: list[dict[str, Any]]) -> str:
     head = " | ".join(f"{SHORT_NAMES.get(law.key, law.label)} | diff" for law in laws)
     first = SHORT_NAMES.get(laws[0].key, laws[0].label)
     lines = [f"| run | a | cells/R_i | (R∞−R_i)/R_i | {head} | at 3 d | diff | mass beyond {first} | "
-             "H∞/R_i | mean J | peak sideways KE | plastic | base friction | base impact | kinetic | residual | wall s | "
+             "H∞/R_i | mean J | peak sideways KE | plastic | of it near compression | base friction | base impact | kinetic | residual | wall s | "
              "status |",
-             "|---|---|---|---|" + "---|---|" * len(laws) + "---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|" + "---|---|" * len(laws) + "---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for c in cases:
         if "laws" not in c:
             lines.append(f"| {c['name']} | {c.get('nominal_aspect_ratio', DASH)} | "
-                         + " | ".join([DASH] * (13 + 2 * len(laws)))
+                         + " | ".join([DASH] * (14 + 2 * len(laws)))
                          + f" | {fmt(c.get('wall_seconds'), '.0f')} | {c['status']}: {c.get('message', '')} |")
             continue
         cells = []
@@ -196,7 +201,8 @@ def sweep_table(cases: list[dict[str, Any]]) -> str:
             f"{pct((c.get('runout_3_grains_rel_diff') or {}).get(laws[0].key), 1)} | "
             f"{pct((c.get('mass_beyond_law') or {}).get(laws[0].key), 1, signed=False)} | "
             f"{c['final_height_normalised']:.3f} | {c.get('volume_ratio_mean', float('nan')):.3f} | "
-            f"{_sideways(c)} | {_share(c, 'plastic_work')} | {_share(c, 'boundary_friction_dissipation')} | "
+            f"{_sideways(c)} | {_share(c, 'plastic_work')} | {_compression_work(c)} | "
+            f"{_share(c, 'boundary_friction_dissipation')} | "
             f"{_share(c, 'boundary_normal_dissipation')} | {_share(c, 'kinetic_energy')} | "
             f"{_share(c, 'energy_residual')} | {fmt(c.get('wall_seconds'), '.0f')} | {c['status']} |")
     return "\n".join(lines)
@@ -337,7 +343,10 @@ tangential / normal kinetic energy removed by the base's velocity corrections, r
 the scheme loses (released − all terms). Peak sideways KE: the largest kinetic energy of the
 radial (plane strain: horizontal) motion over the output frames, as a share of the potential
 energy released by the end (Staron & Hinch 2005's "energy available for the sideways flow";
-`energy.sideways_energy`).
+`energy.sideways_energy`). Of it near compression: the share of the plastic work dissipated
+near triaxial compression (Lode parameter ξ < −½ at the frame after it was dissipated;
+`energy.plastic_work_by_lode`), where a Drucker–Prager cone calibrated in shear is weaker than
+Mohr–Coulomb with the same shear strength.
 
 ## Energy budget
 
