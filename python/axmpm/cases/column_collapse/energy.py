@@ -136,8 +136,11 @@ def plastic_work_by_lode(frames: Any) -> dict[str, Any] | None:
     dependent yield cone calibrated in shear (Drucker–Prager with √J₂ = μ p) and a Mohr–Coulomb
     pyramid with the same shear strength (sin φ = μ) differ most in triaxial compression, where
     Mohr–Coulomb is stronger (q/p = 6 sin φ / (3 − sin φ) against √3 μ), so the compression
-    share says how much the choice of cone can matter for a run. None without a
-    ``plastic_work`` state or without plastic work."""
+    share says how much the choice of cone can matter for a run. The measure reads the
+    returned stress: Drucker–Prager's radial return keeps the Lode parameter of the trial
+    stress (the loading's), while Mohr–Coulomb returns that end on an edge of the pyramid land
+    on ξ = ±1 exactly, so for Mohr–Coulomb runs the shares say where the returns end, not how
+    the material is loaded. None without a ``plastic_work`` state or without plastic work."""
     total = 0.0
     weighted_xi = 0.0
     sums = {key: 0.0 for key, _ in LODE_BINS}

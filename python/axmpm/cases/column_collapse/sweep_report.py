@@ -346,7 +346,9 @@ energy released by the end (Staron & Hinch 2005's "energy available for the side
 `energy.sideways_energy`). Of it near compression: the share of the plastic work dissipated
 near triaxial compression (Lode parameter ξ < −½ at the frame after it was dissipated;
 `energy.plastic_work_by_lode`), where a Drucker–Prager cone calibrated in shear is weaker than
-Mohr–Coulomb with the same shear strength.
+Mohr–Coulomb with the same shear strength (it reads the returned stress: meaningful as a
+loading measure for Drucker–Prager, whose radial return keeps the trial stress's Lode angle;
+Mohr–Coulomb returns to an edge of the pyramid sit at ξ = ±1 by construction).
 
 ## Energy budget
 
