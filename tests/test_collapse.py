@@ -146,6 +146,16 @@ def test_builder_material_models():
     assert sand.model == "drucker_prager" and sand.friction == pytest.approx(math.tan(math.radians(27.4)))
     assert sc.bodies[0].k0 == pytest.approx(1.0 - sand.friction)
     assert collapse_scenario(0.8, material_model="drucker_prager", friction_coefficient=0.4).bodies[0].k0 == 0.6
+    # the Mohr–Coulomb deviatoric section: off by default, passed through to the material
+    assert sand.mohr_coulomb_section is False
+    assert collapse_scenario(0.8, material_model="drucker_prager",
+                             mohr_coulomb_section=True).materials["sand"].mohr_coulomb_section is True
+    from axmpm.scenario import Scenario, ScenarioError
+
+    bad = collapse_scenario(0.8, material_model="drucker_prager", as_dict=True)
+    bad["materials"]["sand"]["mohr_coulomb_section"] = 3
+    with pytest.raises(ScenarioError, match="materials.sand.mohr_coulomb_section"):
+        Scenario.from_dict(bad)
     assert collapse_scenario(0.8, material_model="granular_fluidity").bodies[0].k0 == pytest.approx(1.0 - 0.3819)
     with pytest.raises(ValueError, match="material_model: must be 'mohr_coulomb', 'granular_fluidity' or "
                                          "'drucker_prager' \\(got 'cam_clay'\\)"):

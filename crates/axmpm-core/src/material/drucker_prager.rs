@@ -26,6 +26,26 @@
 //!    b → 0 of the granular fluidity model's local law (granular_fluidity.rs), solved
 //!    implicitly instead of through a start-of-step fluidity.
 //!
+//! # Mohr–Coulomb deviatoric section (`mohr_coulomb_section = true`)
+//!
+//! Optional, off by default (the update is then the plain one, bit for bit). The circular
+//! cone has the same strength whatever the Lode angle, so calibrated in shear (the inclined
+//! flow where an avalanche angle is measured) it is weaker in triaxial compression than a
+//! granular material: q/p = √3 μ against Mohr–Coulomb's 6 sin φ/(3 − sin φ). With the option
+//! the radius of the section is that of the Mohr–Coulomb hexagon with sin φ = μ, so the
+//! strength in plane-strain shear (ξ = 0) is unchanged and triaxial compression is stronger:
+//!
+//! ```text
+//! τ = μ p g(ξ),   g(ξ) = 1 / [sin(α + π/3) + (μ/√3) cos(α + π/3)],   α = arccos(ξ)/3
+//! ξ = (3√3/2) J₃/τ³     (−1 triaxial compression, 0 shear, +1 triaxial extension)
+//! ```
+//!
+//! (from (σ₁ − σ₃) + (σ₁ + σ₃) sin φ = 0 with the principal deviator written in α; g(0) = 1,
+//! g(−1) = 2√3/(3 − μ), g(+1) = 2√3/(3 + μ)). The return stays the radial one at fixed p,
+//! which keeps the trial's Lode angle, so it lands on the section exactly in one step; the
+//! flow remains isochoric and along the deviator (non-associated), unlike mohr_coulomb.rs,
+//! whose returns to an edge of the pyramid change the Lode angle.
+//!
 //! # Dilute material and the time step
 //!
 //! As in mohr_coulomb.rs ("Dilute material and the time step"): the moduli are those of the
@@ -84,6 +104,27 @@ pub struct DruckerPrager {
     pub stable_jacobian: f64,
     /// J_c = φ0/φ_c above which the material is disconnected (module doc); `None` = off.
     pub critical_jacobian: Option<f64>,
+    /// Whether the deviatoric section is Mohr–Coulomb's hexagon with sin φ = μ (module doc);
+    /// false = the circular cone.
+    pub mohr_coulomb_section: bool,
+}
+
+/// ξ = (3√3/2) J₃/τ³ of `stress` with pressure p (compression positive) and τ = √J₂ > 0: the
+/// cosine of three times the Lode angle (σ₃₃, the hoop or out-of-plane stress, is principal).
+#[inline(always)]
+pub fn lode_parameter(stress: &Stress, p: f64, tau: f64) -> f64 {
+    let (s11, s22, s33) = (stress[0] + p, stress[1] + p, stress[2] + p);
+    let j3 = s33 * (s11 * s22 - stress[3] * stress[3]);
+    1.5 * 3f64.sqrt() * j3 / (tau * tau * tau)
+}
+
+/// g(ξ), the radius of the Mohr–Coulomb section with sin φ = `sin_phi` at Lode parameter ξ,
+/// relative to its radius in plane-strain shear (module doc, "Mohr–Coulomb deviatoric
+/// section"). ξ is clamped to [−1, 1] against round-off.
+#[inline(always)]
+pub fn mohr_coulomb_section_radius(xi: f64, sin_phi: f64) -> f64 {
+    let angle = xi.clamp(-1.0, 1.0).acos() / 3.0 + std::f64::consts::FRAC_PI_3;
+    1.0 / (angle.sin() + sin_phi / 3f64.sqrt() * angle.cos())
 }
 
 impl DruckerPrager {
@@ -94,7 +135,14 @@ impl DruckerPrager {
             shear_modulus: youngs_modulus / (2.0 * (1.0 + poisson_ratio)),
             stable_jacobian: f64::INFINITY,
             critical_jacobian: None,
+            mohr_coulomb_section: false,
         }
+    }
+
+    /// Gives the yield surface Mohr–Coulomb's deviatoric section with sin φ = μ (module doc).
+    pub fn with_mohr_coulomb_section(mut self, on: bool) -> Self {
+        self.mohr_coulomb_section = on;
+        self
     }
 
     /// Switches the disconnected state on above J = `critical_jacobian` (module doc); `None`
@@ -105,7 +153,8 @@ impl DruckerPrager {
     }
 
     /// From a `drucker_prager` table; every key is required (the scenario front end fills the
-    /// documented defaults) but the optional `critical_packing_fraction` and `grain_density`.
+    /// documented defaults) but the optional `critical_packing_fraction`, `grain_density` and
+    /// `mohr_coulomb_section` (false when absent).
     /// Errors name `materials.NAME.KEY` and the allowed range.
     pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
         let density = p.positive("density", " kg/m³")?;
@@ -113,7 +162,13 @@ impl DruckerPrager {
         let poisson_ratio = p.poisson_ratio()?;
         let friction = p.positive("friction", "")?;
         let critical_jacobian = p.critical_jacobian(density)?;
-        Ok(Self::new(density, youngs_modulus, poisson_ratio, friction).with_disconnection(critical_jacobian))
+        let mohr_coulomb_section = p.bool_or("mohr_coulomb_section", false)?;
+        if mohr_coulomb_section && friction >= 1.0 {
+            return Err(p.error("friction", format!("must be < 1 with mohr_coulomb_section (it is sin φ; got {friction})")));
+        }
+        Ok(Self::new(density, youngs_modulus, poisson_ratio, friction)
+            .with_disconnection(critical_jacobian)
+            .with_mohr_coulomb_section(mohr_coulomb_section))
     }
 }
 
@@ -167,11 +222,15 @@ impl Material for DruckerPrager {
         }
         let (p, tau) = pressure_and_shear(stress);
         if p > 0.0 && !disconnected {
-            let strength = self.friction * p;
+            let strength = if self.mohr_coulomb_section && tau > 0.0 {
+                self.friction * p * mohr_coulomb_section_radius(lode_parameter(stress, p, tau), self.friction)
+            } else {
+                self.friction * p
+            };
             if tau <= strength {
                 return; // elastic
             }
-            // Closest-point return at fixed p: s = s_tr μ p / τ_tr.
+            // Closest-point return at fixed p: s = s_tr μ p g / τ_tr (g = 1 for the circle).
             let scale = strength / tau;
             for c in 0..3 {
                 stress[c] = -p + scale * (stress[c] + p);
@@ -397,6 +456,83 @@ mod tests {
         }
     }
 
+    /// Principal stresses (tension positive) at pressure p, τ = √J₂ and Lode parameter ξ:
+    /// s_k = (2/√3) τ cos(α − 2πk/3), α = arccos(ξ)/3 (so that ξ = (3√3/2) J₃/τ³).
+    fn principal(p: f64, tau: f64, xi: f64) -> Stress {
+        let alpha = xi.acos() / 3.0;
+        let s = |k: f64| 2.0 / 3f64.sqrt() * tau * (alpha - 2.0 * std::f64::consts::PI * k / 3.0).cos();
+        [-p + s(0.0), -p + s(1.0), -p + s(2.0), 0.0]
+    }
+
+    #[test]
+    fn the_mohr_coulomb_section_meets_the_principal_stress_criterion() {
+        let mu = 27.4f64.to_radians().tan();
+        // Reference states: shear g = 1, compression 2√3/(3 − μ), extension 2√3/(3 + μ).
+        assert!((mohr_coulomb_section_radius(0.0, mu) - 1.0).abs() < 1e-15);
+        assert!((mohr_coulomb_section_radius(-1.0, mu) - 2.0 * 3f64.sqrt() / (3.0 - mu)).abs() < 1e-15);
+        assert!((mohr_coulomb_section_radius(1.0, mu) - 2.0 * 3f64.sqrt() / (3.0 + mu)).abs() < 1e-15);
+        // Round-off beyond ±1 is clamped.
+        assert_eq!(mohr_coulomb_section_radius(-1.0 - 1e-12, mu), mohr_coulomb_section_radius(-1.0, mu));
+        assert_eq!(mohr_coulomb_section_radius(1.0 + 1e-12, mu), mohr_coulomb_section_radius(1.0, mu));
+        // On the section, (σ_max − σ_min) + (σ_max + σ_min) sin φ = 0 with sin φ = μ, at every ξ,
+        // and the Lode parameter of the principal state is the one it was built with.
+        for xi in [-1.0, -0.9, -0.5, -0.2, 0.0, 0.3, 0.7, 1.0] {
+            let p = 800.0;
+            let tau = mu * p * mohr_coulomb_section_radius(xi, mu);
+            let sigma = principal(p, tau, xi);
+            let (max, min) = (sigma[..3].iter().cloned().fold(f64::MIN, f64::max), sigma[..3].iter().cloned().fold(f64::MAX, f64::min));
+            assert!(((max - min) + (max + min) * mu).abs() < 1e-12 * p, "ξ = {xi}");
+            let (pp, tt) = pressure_and_shear(&sigma);
+            assert!((pp - p).abs() < 1e-12 * p && (tt - tau).abs() < 1e-12 * tau);
+            assert!((lode_parameter(&sigma, pp, tt) - xi).abs() < 1e-12, "ξ = {xi}");
+        }
+        // The Lode parameter with an in-plane shear component: a compression along an axis
+        // rotated in the 1–2 plane is still ξ = −1.
+        let (c, s) = (0.6f64.cos(), 0.6f64.sin());
+        let (a, b) = (-3.0, -1.0); // principal in-plane values, hoop −1
+        let rotated = [c * c * a + s * s * b, s * s * a + c * c * b, -1.0, c * s * (a - b)];
+        let (p, tau) = pressure_and_shear(&rotated);
+        assert!((lode_parameter(&rotated, p, tau) + 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn with_the_mohr_coulomb_section_compression_returns_to_the_mohr_coulomb_strength() {
+        let plain = beads();
+        let hexagon = beads().with_mohr_coulomb_section(true);
+        let mu = plain.friction;
+        // Trials beyond both surfaces: q/p of the return is 6 sin φ/(3 − sin φ) in triaxial
+        // compression and 6 sin φ/(3 + sin φ) in extension with the section, √3 μ without.
+        let zero = kinematics([0.0; 5], 1e-6);
+        for (xi, ratio) in [(-1.0, 6.0 * mu / (3.0 - mu)), (1.0, 6.0 * mu / (3.0 + mu)), (0.0, 3f64.sqrt() * mu)] {
+            let start = principal(1000.0, 2.0 * mu * 1000.0, xi);
+            let (mut a, mut b) = (start, start);
+            let (mut state_a, mut state_b) = ([0.0; 2], [0.0; 2]);
+            hexagon.update_stress(&mut a, &mut state_a, &zero);
+            plain.update_stress(&mut b, &mut state_b, &zero);
+            let (p, tau) = pressure_and_shear(&a);
+            assert!((p - 1000.0).abs() < 1e-9, "the return keeps p");
+            assert!((3f64.sqrt() * tau / p - ratio).abs() < 1e-12, "ξ = {xi}: q/p = {}", 3f64.sqrt() * tau / p);
+            assert!((lode_parameter(&a, p, tau) - xi).abs() < 1e-9, "the return keeps the Lode angle");
+            let (pb, taub) = pressure_and_shear(&b);
+            assert!((taub / pb - mu).abs() < 1e-12);
+            // The plastic shear strain is what the deviator gave up: (τ_tr − τ)/G.
+            assert!((state_a[0] - (2.0 * mu * 1000.0 - tau) / (1e6 / 2.6)).abs() < 1e-12, "ξ = {xi}");
+        }
+        // Inside the hexagon but outside the circle (compression at 1.2 μ p): elastic with the
+        // section, a return without.
+        let start = principal(1000.0, 1.2 * mu * 1000.0, -1.0);
+        let (mut a, mut b) = (start, start);
+        hexagon.update_stress(&mut a, &mut [0.0; 2], &zero);
+        plain.update_stress(&mut b, &mut [0.0; 2], &zero);
+        assert_eq!(a, start);
+        assert!((pressure_and_shear(&b).1 - mu * 1000.0).abs() < 1e-9);
+        // Simple shear from an isotropic state is pure shear (ξ = 0): the same flow stress.
+        let mut point = MaterialPoint::new(&hexagon, [-500.0, -500.0, -500.0, 0.0]);
+        point.drive(&hexagon, [0.0, 0.5, 0.0, 0.0, 0.0], 1e-5, 20_000);
+        let (p, tau) = pressure_and_shear(&point.stress);
+        assert!((tau - mu * p).abs() < 1e-9 * tau, "τ/p = {}", tau / p);
+    }
+
     #[test]
     fn registry_builds_it_by_name_and_names_bad_keys() {
         use serde_json::json;
@@ -423,6 +559,19 @@ mod tests {
         let m = DruckerPrager::from_parameters(&Parameters::new("beads", with.as_object().unwrap())).unwrap();
         assert!((m.critical_jacobian.unwrap() - 0.62 / 0.55).abs() < 1e-12);
         assert_eq!(DruckerPrager::from_parameters(&p).unwrap().critical_jacobian, None);
+        // The Mohr–Coulomb section: off when absent, on by key; a non-boolean or μ ≥ 1 named.
+        assert!(!DruckerPrager::from_parameters(&p).unwrap().mohr_coulomb_section);
+        let mut hexagon = table.clone();
+        hexagon["mohr_coulomb_section"] = json!(true);
+        assert!(DruckerPrager::from_parameters(&Parameters::new("beads", hexagon.as_object().unwrap())).unwrap().mohr_coulomb_section);
+        hexagon["friction"] = json!(1.0);
+        assert_eq!(build(&Parameters::new("beads", hexagon.as_object().unwrap())).err().unwrap(),
+                   "materials.beads.friction: must be < 1 with mohr_coulomb_section (it is sin φ; got 1)");
+        hexagon["friction"] = json!(0.9);
+        assert!(build(&Parameters::new("beads", hexagon.as_object().unwrap())).is_ok());
+        hexagon["mohr_coulomb_section"] = json!(1);
+        assert_eq!(build(&Parameters::new("beads", hexagon.as_object().unwrap())).err().unwrap(),
+                   "materials.beads.mohr_coulomb_section: must be true or false (got 1)");
         for (key, value, message) in [
             ("grain_density", json!(null), "is required with critical_packing_fraction".to_string()),
             ("grain_density", json!(1550.0), "must be > density = 1550 kg/m³ (packing as placed density/grain_density < 1; got 1550)".to_string()),

@@ -49,6 +49,9 @@ DEFAULTS: dict[str, Any] = {
     # (2023) set μ to the tangent of the avalanche angle, 27.4° for Lajeunesse et al.'s beads
     # (PHYSICS §6a via Kumar 2015, medium confidence).
     "friction_coefficient": math.tan(math.radians(27.4)),
+    # drucker_prager only: the Mohr–Coulomb deviatoric section with sin φ = μ (stronger in
+    # triaxial compression, the same in plane-strain shear; drucker_prager.rs).
+    "mohr_coulomb_section": False,
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
@@ -121,6 +124,7 @@ def collapse_scenario(
     friction_rate: float = DEFAULTS["friction_rate"],
     nonlocal_amplitude: float = DEFAULTS["nonlocal_amplitude"],
     friction_coefficient: float = DEFAULTS["friction_coefficient"],
+    mohr_coulomb_section: bool = DEFAULTS["mohr_coulomb_section"],
     base_friction: float | None = DEFAULTS["base_friction"],
     shape_function: str = DEFAULTS["shape_function"],
     update_scheme: str = DEFAULTS["update_scheme"],
@@ -226,6 +230,7 @@ def collapse_scenario(
                 "youngs_modulus": youngs_modulus,
                 "poisson_ratio": poisson_ratio,
                 "friction": friction_coefficient,
+                **({"mohr_coulomb_section": True} if mohr_coulomb_section else {}),
                 **({"critical_packing_fraction": critical_packing_fraction,
                     "grain_density": grain_density}
                    if critical_packing_fraction is not None else {}),

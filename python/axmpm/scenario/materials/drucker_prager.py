@@ -6,7 +6,8 @@ plastic flow, stress-free in tension. Rousseau et al. (2023, JFM) reproduce gran
 with this constant-friction rheology when μ is the tangent of the material's avalanche angle
 (tan 27.4° = 0.518 for Lajeunesse et al.'s glass beads). State variables written to every frame:
 ``plastic_shear_strain`` and ``plastic_work`` (J/m³ of reference volume). Optional: Dunatunga &
-Kamrin's disconnected state below ``critical_packing_fraction`` (as ``mohr_coulomb``)."""
+Kamrin's disconnected state below ``critical_packing_fraction`` (as ``mohr_coulomb``), and the
+Mohr–Coulomb deviatoric section (``mohr_coulomb_section``: stronger in triaxial compression)."""
 
 from __future__ import annotations
 
@@ -25,6 +26,12 @@ class DruckerPrager(ElasticMaterial):
     model: Literal["drucker_prager"]
     friction: bounded(0.0, 1.0, lo_open=True, hi_open=True) = Field(  # type: ignore[valid-type]
         description="μ, friction coefficient τ/p of the yield cone")
+
+    mohr_coulomb_section: bool = Field(
+        False, description="true: the yield surface's deviatoric section is the Mohr–Coulomb hexagon "
+        "with sin phi = friction (same strength in plane-strain shear, q/p = 6 sin phi/(3 - sin phi) "
+        "in triaxial compression instead of sqrt(3) friction), reached by the same radial, isochoric "
+        "return; false: the circular cone")
 
     # Disconnected state (drucker_prager.rs, Dunatunga & Kamrin 2015), as mohr_coulomb's.
     critical_packing_fraction: bounded(0.0, 1.0, lo_open=True, hi_open=True) | None = Field(  # type: ignore[valid-type]
