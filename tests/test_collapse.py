@@ -175,6 +175,13 @@ def test_examples_match_builder():
     ex = Scenario.from_toml(root / "column_collapse_a54_drucker_prager.toml")
     assert ex.to_dict() == Scenario.from_dict(data).to_dict()
     assert ex.materials["sand"].model == "drucker_prager" and ex.simulation.volumetric_averaging == "cell"
+    # The same with the Mohr–Coulomb deviatoric section.
+    data = collapse_scenario(5.4, cell_size=0.001, material_model="drucker_prager", mohr_coulomb_section=True,
+                             as_dict=True)
+    data["simulation"]["volumetric_averaging"] = "cell"
+    ex = Scenario.from_toml(root / "column_collapse_a54_mohr_coulomb_section.toml")
+    assert ex.to_dict() == Scenario.from_dict(data).to_dict()
+    assert ex.materials["sand"].mohr_coulomb_section is True
 
 
 def test_tiny_validate_run(tmp_path):
