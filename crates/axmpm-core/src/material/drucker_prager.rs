@@ -230,7 +230,8 @@ impl Material for DruckerPrager {
             if tau <= strength {
                 return; // elastic
             }
-            // Closest-point return at fixed p: s = s_tr μ p g / τ_tr (g = 1 for the circle).
+            // Return at fixed p along the trial deviator, s = s_tr μ p g / τ_tr: the closest point
+            // on the circle (g = 1); on the hexagon the radial, non-associated return (module doc).
             let scale = strength / tau;
             for c in 0..3 {
                 stress[c] = -p + scale * (stress[c] + p);
@@ -526,6 +527,12 @@ mod tests {
         plain.update_stress(&mut b, &mut [0.0; 2], &zero);
         assert_eq!(a, start);
         assert!((pressure_and_shear(&b).1 - mu * 1000.0).abs() < 1e-9);
+        // An isotropic state has no Lode angle (τ = 0): it stays elastic, with no NaN.
+        let mut isotropic = [-500.0, -500.0, -500.0, 0.0];
+        let mut state = [0.0; 2];
+        hexagon.update_stress(&mut isotropic, &mut state, &zero);
+        assert_eq!(isotropic, [-500.0, -500.0, -500.0, 0.0]);
+        assert_eq!(state, [0.0; 2]);
         // Simple shear from an isotropic state is pure shear (ξ = 0): the same flow stress.
         let mut point = MaterialPoint::new(&hexagon, [-500.0, -500.0, -500.0, 0.0]);
         point.drive(&hexagon, [0.0, 0.5, 0.0, 0.0, 0.0], 1e-5, 20_000);
