@@ -531,11 +531,13 @@ class ColumnCollapse:
 
     def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
         result = case_result(run.name, run_dir, run.params.get("nominal_aspect_ratio", CASES.get(run.name)))
+        from ...run.output import load_run
         from .energy import energy_shares, lode_work_shares, sideways_energy
 
         result["energy"] = energy_shares(run_dir)
-        result["sideways_energy"] = sideways_energy(run_dir)
-        result["plastic_work_by_lode"] = lode_work_shares(run_dir)
+        run_data = load_run(run_dir)  # both frame diagnostics read its frames, each once
+        result["sideways_energy"] = sideways_energy(run_data)
+        result["plastic_work_by_lode"] = lode_work_shares(run_data)
         return result
 
     def cost(self, run: RunSpec) -> float:

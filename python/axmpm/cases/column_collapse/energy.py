@@ -79,13 +79,20 @@ def kinetic_energy_split(frames: Any, gravity: Any) -> dict[str, np.ndarray]:
     return {"time": t, "sideways": sideways, "vertical": vertical, "released": released}
 
 
-def sideways_energy(run_dir: str | Path) -> dict[str, Any] | None:
+def _as_run(run: Any) -> Any:
+    """A run folder's :class:`~axmpm.run.output.Run`; a Run is passed through, so callers
+    that read several frame diagnostics load (and cache) the frames once."""
+    from ...run.output import Run, load_run
+
+    return run if isinstance(run, Run) else load_run(run)
+
+
+def sideways_energy(run: Any) -> dict[str, Any] | None:
     """The peak kinetic energy of the sideways and of the vertical motion as shares of the
     potential energy released by the end of the run (:func:`kinetic_energy_split` over the
-    run's frames), and the time of the sideways peak; None without frames or released energy."""
-    from ...run.output import load_run
-
-    run = load_run(run_dir)
+    run's frames), and the time of the sideways peak; None without frames or released energy.
+    ``run``: a run folder or its loaded Run."""
+    run = _as_run(run)
     if not run.frames:
         return None
     split = kinetic_energy_split(run.frames, run.scenario.simulation.gravity)
@@ -165,11 +172,10 @@ def plastic_work_by_lode(frames: Any) -> dict[str, Any] | None:
             "mean_lode_parameter": weighted_xi / with_stress if with_stress > 0.0 else None}
 
 
-def lode_work_shares(run_dir: str | Path) -> dict[str, Any] | None:
-    """:func:`plastic_work_by_lode` over a run's output frames (None without frames)."""
-    from ...run.output import load_run
-
-    run = load_run(run_dir)
+def lode_work_shares(run: Any) -> dict[str, Any] | None:
+    """:func:`plastic_work_by_lode` over a run's output frames (None without frames);
+    ``run``: a run folder or its loaded Run."""
+    run = _as_run(run)
     return plastic_work_by_lode(run.frames) if run.frames else None
 
 

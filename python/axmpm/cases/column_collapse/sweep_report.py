@@ -160,8 +160,7 @@ def _share(c: dict[str, Any], key: str) -> str:
 
 
 def _compression_work(c: dict[str, Any]) -> str:
-    v = ((c.get("plastic_work_by_lode") or {}).get("shares") or {}).get("compression")
-    return DASH if v is None else f"{100 * v:.1f} %"
+    return pct(((c.get("plastic_work_by_lode") or {}).get("shares") or {}).get("compression"), 1, signed=False)
 
 
 def _sideways(c: dict[str, Any]) -> str:
