@@ -156,6 +156,13 @@ def test_builder_material_models():
     bad["materials"]["sand"]["mohr_coulomb_section"] = 3
     with pytest.raises(ScenarioError, match="materials.sand.mohr_coulomb_section"):
         Scenario.from_dict(bad)
+    # Jop et al.'s μ(I) on the cone: off by default; with it friction_coefficient is μ_s
+    assert sand.inertial_friction is None
+    sc = collapse_scenario(0.8, material_model="drucker_prager", friction_coefficient=0.3819, inertial_friction=0.6435)
+    sand = sc.materials["sand"]
+    assert (sand.friction, sand.inertial_friction, sand.inertial_number_scale) == (0.3819, 0.6435, 0.279)
+    assert (sand.grain_diameter, sand.grain_density) == (1.15e-3, 2500.0)
+    assert sc.bodies[0].k0 == pytest.approx(1.0 - 0.3819)
     assert collapse_scenario(0.8, material_model="granular_fluidity").bodies[0].k0 == pytest.approx(1.0 - 0.3819)
     with pytest.raises(ValueError, match="material_model: must be 'mohr_coulomb', 'granular_fluidity' or "
                                          "'drucker_prager' \\(got 'cam_clay'\\)"):

@@ -356,3 +356,43 @@ def test_drucker_prager_disconnection_input_errors_name_the_field(extra, field, 
         validate_material({**dp(), **extra})
     text = str(info.value)
     assert field in text and message in text, text
+
+
+def jop_beads(**extra):
+    """Drucker–Prager with Jop et al.'s glass-bead μ(I) (μ_s 0.3819, μ₂ 0.6435, I₀ 0.279)."""
+    return {**dp(0.3819), "inertial_friction": 0.6435, "grain_diameter": 1.15e-3, "grain_density": 2500.0, **extra}
+
+
+@pytest.mark.parametrize("section", [False, True])
+def test_drucker_prager_mu_of_i_simple_shear_flows_at_the_friction_of_its_inertial_number(section):
+    # Simple shear at γ̇ = 60/s from p = 500 Pa: I = γ̇ d/√(p/ρ_s) = 0.154, τ/p → μ(I) = 0.4752,
+    # the same in plane-strain shear with and without the Mohr–Coulomb section.
+    p, rate, steps = 500.0, 60.0, 4000
+    dt = 0.05 / rate / steps
+    L = np.zeros((steps, 5))
+    L[:, 1] = rate
+    out = material_point(jop_beads(mohr_coulomb_section=section), L, dt, [-p, -p, -p, 0.0])
+    s = out.stresses
+    pressure = -(s[:, 0] + s[:, 1] + s[:, 2]) / 3
+    dev = s[:, :3] + pressure[:, None]
+    tau = np.sqrt(0.5 * (dev ** 2).sum(axis=1) + s[:, 3] ** 2)
+    inertial = rate * 1.15e-3 / math.sqrt(p / 2500.0)
+    mu = 0.3819 + (0.6435 - 0.3819) * inertial / (0.279 + inertial)
+    np.testing.assert_allclose(tau[-steps // 2:] / pressure[-steps // 2:], mu, rtol=1e-6)
+    np.testing.assert_allclose(out.state("inertial_number")[-1], inertial, rtol=1e-6)
+
+
+@pytest.mark.parametrize("extra, field, message", [
+    ({"inertial_friction": 0.3}, "inertial_friction", "must be >= friction = 0.3819"),
+    ({"inertial_friction": 1.2, "mohr_coulomb_section": True}, "inertial_friction", "< 1 (it is sin phi_2"),
+    ({"grain_diameter": None}, "grain_diameter", "is required with inertial_friction"),
+    ({"grain_density": None}, "grain_density", "is required with inertial_friction"),
+    ({"grain_density": 1000.0}, "grain_density", "must be >= density = 1550"),
+    ({"inertial_number_scale": 0.0}, "inertial_number_scale", ""),
+])
+def test_drucker_prager_mu_of_i_input_errors_name_the_field(extra, field, message):
+    with pytest.raises(ScenarioError) as info:
+        validate_material(jop_beads(**extra))
+    text = str(info.value)
+    assert field in text and message in text, text
+    validate_material(jop_beads(inertial_friction=1.2))  # μ₂ ≥ 1 is allowed on the circle

@@ -46,6 +46,22 @@
 //! flow remains isochoric and along the deviator (non-associated), unlike mohr_coulomb.rs,
 //! whose returns to an edge of the pyramid change the Lode angle.
 //!
+//! # μ(I) friction (`inertial_friction`)
+//!
+//! Optional, off by default (the update is then the plain one, bit for bit): the friction
+//! coefficient follows the inertial number, Jop, Forterre & Pouliquen's (2006) μ(I) rheology,
+//! with `friction` as its static value μ_s and `inertial_friction` as μ₂:
+//!
+//! ```text
+//! I = |γ̇| d / √(p / ρ_s),   μ(I) = μ_s + (μ₂ − μ_s) I / (I₀ + I)
+//! ```
+//!
+//! (mu_i.rs, "Law": the same I and μ(I), from the start-of-step stress and the step's rate of
+//! deformation, then the step is the rate-independent one at μ(I)). The cone needs no mapping:
+//! Jop et al.'s stress −p I + μ p γ̇/|γ̇| has √J₂ = μ p exactly, so on the circle this is their
+//! 3D law, and their glass-bead μ_s = tan 20.9°, μ₂ = tan 32.76° (measured as tan θ of steady
+//! chute flows, simple shear) enter as they are. With the Mohr–Coulomb section, sin φ = μ(I).
+//!
 //! # Dilute material and the time step
 //!
 //! As in mohr_coulomb.rs ("Dilute material and the time step"): the moduli are those of the
@@ -79,6 +95,7 @@
 //!   (complementary) elastic energy W_e, so that the model adds no residual of its own to the
 //!   energy budget (as granular_fluidity.rs).
 
+use super::mu_i::{inertial_friction, inertial_number, INERTIAL_NUMBER_CAP, INERTIAL_NUMBER_SCALE_DEFAULT};
 use super::{
     jaumann_rotation, pressure_and_shear, rate_of_deformation, stable_jacobian, stress_power, take_out_disconnected_compaction,
     Kinematics,
@@ -87,8 +104,25 @@ use super::{
 use crate::particles::Stress;
 
 const STATE_NAMES: [&str; 2] = ["plastic_shear_strain", "plastic_work"];
+/// With μ(I): the inertial number of the particle's last step as well (capped at
+/// [`INERTIAL_NUMBER_CAP`] where p ≤ 0, as mu_i.rs).
+const STATE_NAMES_INERTIAL: [&str; 3] = ["plastic_shear_strain", "plastic_work", "inertial_number"];
 const SHEAR_STRAIN_SLOT: usize = 0;
 const WORK_SLOT: usize = 1;
+const INERTIAL_NUMBER_SLOT: usize = 2;
+
+/// The μ(I) law of the cone (module doc, "μ(I) friction"); μ_s is [`DruckerPrager::friction`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InertialFriction {
+    /// μ₂, the friction at I → ∞ (≥ μ_s).
+    pub dynamic_friction: f64,
+    /// I₀.
+    pub inertial_number_scale: f64,
+    /// d, m.
+    pub grain_diameter: f64,
+    /// ρ_s, kg/m³.
+    pub grain_density: f64,
+}
 
 /// The Drucker–Prager model (module doc).
 #[derive(Clone, Debug)]
@@ -107,6 +141,8 @@ pub struct DruckerPrager {
     /// Whether the deviatoric section is Mohr–Coulomb's hexagon with sin φ = μ (module doc);
     /// false = the circular cone.
     pub mohr_coulomb_section: bool,
+    /// μ(I) friction with `friction` as μ_s (module doc); `None` = constant friction.
+    pub inertial: Option<InertialFriction>,
 }
 
 /// ξ = (3√3/2) J₃/τ³ of `stress` with pressure p (compression positive) and τ = √J₂ > 0: the
@@ -136,6 +172,27 @@ impl DruckerPrager {
             stable_jacobian: f64::INFINITY,
             critical_jacobian: None,
             mohr_coulomb_section: false,
+            inertial: None,
+        }
+    }
+
+    /// Makes the friction follow μ(I) with `friction` as μ_s (module doc); `None` leaves it
+    /// constant.
+    pub fn with_inertial_friction(mut self, law: Option<InertialFriction>) -> Self {
+        self.inertial = law;
+        self
+    }
+
+    /// The friction coefficient of a step from the start-of-step `stress` and the step's rate
+    /// of deformation `d`, with the inertial number it used (0 without μ(I)).
+    #[inline(always)]
+    fn friction_of_step(&self, stress: &Stress, d: &[f64; 4]) -> (f64, f64) {
+        match &self.inertial {
+            None => (self.friction, 0.0),
+            Some(law) => {
+                let i = inertial_number(stress, d, law.grain_diameter, law.grain_density);
+                (inertial_friction(self.friction, law.dynamic_friction, law.inertial_number_scale, i), i)
+            }
         }
     }
 
@@ -153,8 +210,10 @@ impl DruckerPrager {
     }
 
     /// From a `drucker_prager` table; every key is required (the scenario front end fills the
-    /// documented defaults) but the optional `critical_packing_fraction`, `grain_density` and
-    /// `mohr_coulomb_section` (false when absent).
+    /// documented defaults) but the optional `critical_packing_fraction`, `grain_density`,
+    /// `mohr_coulomb_section` (false when absent) and `inertial_friction` (μ₂; with it
+    /// `grain_diameter` and `grain_density` are required, `inertial_number_scale` defaults to
+    /// Jop et al.'s 0.279).
     /// Errors name `materials.NAME.KEY` and the allowed range.
     pub fn from_parameters(p: &Parameters) -> Result<Self, String> {
         let density = p.positive("density", " kg/m³")?;
@@ -166,9 +225,40 @@ impl DruckerPrager {
         if mohr_coulomb_section && friction >= 1.0 {
             return Err(p.error("friction", format!("must be < 1 with mohr_coulomb_section (it is sin φ; got {friction})")));
         }
+        let inertial = Self::inertial_from_parameters(p, friction, mohr_coulomb_section)?;
         Ok(Self::new(density, youngs_modulus, poisson_ratio, friction)
             .with_disconnection(critical_jacobian)
-            .with_mohr_coulomb_section(mohr_coulomb_section))
+            .with_mohr_coulomb_section(mohr_coulomb_section)
+            .with_inertial_friction(inertial))
+    }
+
+    /// The μ(I) keys of a table, `None` without `inertial_friction`.
+    fn inertial_from_parameters(p: &Parameters, friction: f64, mohr_coulomb_section: bool)
+                                -> Result<Option<InertialFriction>, String> {
+        let Some(mu2) = p.optional_f64("inertial_friction")? else {
+            return Ok(None);
+        };
+        if mohr_coulomb_section && !(mu2 >= friction && mu2 < 1.0) {
+            return Err(p.error("inertial_friction", format!(
+                "must be in [friction, 1) = [{friction}, 1) with mohr_coulomb_section (it is sin φ₂; got {mu2})")));
+        }
+        if !(mu2 >= friction && mu2.is_finite()) {
+            return Err(p.error("inertial_friction", format!("must be finite and >= friction = {friction} (got {mu2})")));
+        }
+        let inertial_number_scale = p.f64_or("inertial_number_scale", INERTIAL_NUMBER_SCALE_DEFAULT)?;
+        if !(inertial_number_scale > 0.0 && inertial_number_scale.is_finite()) {
+            return Err(p.error("inertial_number_scale", format!("must be > 0 (got {inertial_number_scale})")));
+        }
+        let required = |key: &str, unit: &str| -> Result<f64, String> {
+            let v = p.optional_f64(key)?.ok_or_else(|| p.error(key, "is required with inertial_friction"))?;
+            if v > 0.0 && v.is_finite() { Ok(v) } else { Err(p.error(key, format!("must be > 0{unit} (got {v})"))) }
+        };
+        Ok(Some(InertialFriction {
+            dynamic_friction: mu2,
+            inertial_number_scale,
+            grain_diameter: required("grain_diameter", " m")?,
+            grain_density: required("grain_density", " kg/m³")?,
+        }))
     }
 }
 
@@ -188,7 +278,11 @@ impl Material for DruckerPrager {
         self.elastic.wave_speed()
     }
     fn state_names(&self) -> &'static [&'static str] {
-        &STATE_NAMES
+        if self.inertial.is_some() {
+            &STATE_NAMES_INERTIAL
+        } else {
+            &STATE_NAMES
+        }
     }
     fn elastic_energy_density(&self, stress: &Stress) -> f64 {
         self.elastic.elastic_energy_density(stress)
@@ -220,12 +314,17 @@ impl Material for DruckerPrager {
         for c in 0..4 {
             stress[c] += inc[c] + rot[c];
         }
+        // μ, or μ(I) from the start-of-step stress (module doc, "μ(I) friction").
+        let (friction, inertial_number) = self.friction_of_step(&start, &d);
+        if let Some(slot) = state.get_mut(INERTIAL_NUMBER_SLOT) {
+            *slot = inertial_number.min(INERTIAL_NUMBER_CAP);
+        }
         let (p, tau) = pressure_and_shear(stress);
         if p > 0.0 && !disconnected {
             let strength = if self.mohr_coulomb_section && tau > 0.0 {
-                self.friction * p * mohr_coulomb_section_radius(lode_parameter(stress, p, tau), self.friction)
+                friction * p * mohr_coulomb_section_radius(lode_parameter(stress, p, tau), friction)
             } else {
-                self.friction * p
+                friction * p
             };
             if tau <= strength {
                 return; // elastic
@@ -540,6 +639,80 @@ mod tests {
         assert!((tau - mu * p).abs() < 1e-9 * tau, "τ/p = {}", tau / p);
     }
 
+    /// Jop et al.'s glass-bead μ(I) (μ_s = tan 20.9°, μ₂ = tan 32.76°, I₀ = 0.279) with the
+    /// Lajeunesse et al. beads' d = 1.15 mm and ρ_s = 2500 kg/m³.
+    fn flowing_beads(section: bool) -> DruckerPrager {
+        DruckerPrager::new(1550.0, 1e6, 0.3, 20.9f64.to_radians().tan())
+            .with_mohr_coulomb_section(section)
+            .with_inertial_friction(Some(InertialFriction {
+                dynamic_friction: 32.76f64.to_radians().tan(),
+                inertial_number_scale: 0.279,
+                grain_diameter: 1.15e-3,
+                grain_density: 2500.0,
+            }))
+    }
+
+    #[test]
+    fn steady_simple_shear_flows_at_the_friction_of_its_inertial_number() {
+        // Simple shear at constant p: τ/p settles on μ(I), I = γ̇ d/√(p/ρ_s), and the state
+        // holds that I; a faster shear is stronger (the constant cone is the same at any rate).
+        let m = flowing_beads(false);
+        let law = m.inertial.unwrap();
+        let p = 500.0;
+        let mut ratios = vec![];
+        for (rate, dt) in [(5.0, 1e-6), (50.0, 1e-7), (400.0, 2e-8)] {
+            let mut point = MaterialPoint::new(&m, [-p, -p, -p, 0.0]);
+            point.drive(&m, [0.0, rate, 0.0, 0.0, 0.0], dt, 100_000);
+            let (pressure, tau) = pressure_and_shear(&point.stress);
+            let i = rate * 1.15e-3 / (p / 2500.0f64).sqrt();
+            let mu = m.friction + (law.dynamic_friction - m.friction) * i / (0.279 + i);
+            assert!((pressure - p).abs() < 1e-9 * p, "{pressure}");
+            assert!((tau / pressure - mu).abs() < 1e-6 * mu, "rate {rate}: τ/p = {} vs μ(I) = {mu}", tau / pressure);
+            assert!((point.state[2] - i).abs() < 1e-6 * i, "I = {} vs {i}", point.state[2]);
+            ratios.push(tau / pressure);
+        }
+        assert!(ratios[0] < ratios[1] && ratios[1] < ratios[2], "{ratios:?}");
+        assert!(ratios[0] > m.friction && ratios[2] < law.dynamic_friction);
+    }
+
+    #[test]
+    fn a_mu_of_i_step_is_the_constant_cone_step_at_the_friction_of_its_inertial_number() {
+        // Any step, circle or hexagon: the same as the rate-independent model at μ = μ(I) of the
+        // start-of-step stress, and the same plastic strain and work.
+        let mut rng = crate::material::testing::Lcg(7);
+        for section in [false, true] {
+            let m = flowing_beads(section);
+            let law = m.inertial.unwrap();
+            for _ in 0..200 {
+                let start = crate::material::testing::random_stress(&mut rng, -900.0, -50.0, 300.0);
+                let l = [rng.uniform(-40.0, 40.0), rng.uniform(-40.0, 40.0), rng.uniform(-40.0, 40.0),
+                         rng.uniform(-40.0, 40.0), rng.uniform(-20.0, 20.0)];
+                let k = Kinematics { jacobian: rng.uniform(0.9, 1.1), ..kinematics(l, 1e-4) };
+                let d = rate_of_deformation(&l).0;
+                let i = inertial_number(&start, &d, 1.15e-3, 2500.0);
+                let mu = inertial_friction(m.friction, law.dynamic_friction, 0.279, i);
+                let constant = DruckerPrager::new(1550.0, 1e6, 0.3, mu).with_mohr_coulomb_section(section);
+                let (mut a, mut b) = (start, start);
+                let (mut state_a, mut state_b) = ([0.5, 3.0, 0.0], [0.5, 3.0]);
+                m.update_stress(&mut a, &mut state_a, &k);
+                constant.update_stress(&mut b, &mut state_b, &k);
+                assert_eq!(a, b, "section {section}, I = {i}");
+                assert_eq!(state_a[..2], state_b);
+                assert_eq!(state_a[2], i);
+            }
+        }
+        // No shear: μ_s, I = 0. No pressure at the start while shearing: μ₂, I stored capped.
+        let m = flowing_beads(true);
+        let (mut stress, mut state) = ([-200.0, -200.0, -200.0, 0.0], [0.0; 3]);
+        m.update_stress(&mut stress, &mut state, &kinematics([-1.0, 0.0, 0.0, -1.0, -1.0], 1e-4));
+        assert_eq!(state[2], 0.0);
+        assert_eq!(m.friction_of_step(&[-200.0; 4], &[-1.0, -1.0, -1.0, 0.0]).0, m.friction);
+        let (mut stress, mut state) = ([0.0; 4], [0.0; 3]);
+        m.update_stress(&mut stress, &mut state, &kinematics([-30.0, 20.0, 0.0, -30.0, -30.0], 1e-4));
+        assert_eq!(state[2], INERTIAL_NUMBER_CAP);
+        assert_eq!(m.friction_of_step(&[0.0; 4], &[-30.0, -30.0, -30.0, 10.0]).0, m.inertial.unwrap().dynamic_friction);
+    }
+
     #[test]
     fn registry_builds_it_by_name_and_names_bad_keys() {
         use serde_json::json;
@@ -576,6 +749,47 @@ mod tests {
                    "materials.beads.friction: must be < 1 with mohr_coulomb_section (it is sin φ; got 1)");
         hexagon["friction"] = json!(0.9);
         assert!(build(&Parameters::new("beads", hexagon.as_object().unwrap())).is_ok());
+        // μ(I): off when absent; with it three state variables, its keys checked.
+        assert_eq!(DruckerPrager::from_parameters(&p).unwrap().inertial, None);
+        let mut flowing = table.clone();
+        flowing["friction"] = json!(0.3819);
+        flowing["inertial_friction"] = json!(0.6435);
+        flowing["grain_diameter"] = json!(1.15e-3);
+        flowing["grain_density"] = json!(2500.0);
+        let m = build(&Parameters::new("beads", flowing.as_object().unwrap())).unwrap();
+        assert_eq!(m.state_names(), &STATE_NAMES_INERTIAL);
+        let law = DruckerPrager::from_parameters(&Parameters::new("beads", flowing.as_object().unwrap())).unwrap().inertial;
+        assert_eq!(law, Some(InertialFriction { dynamic_friction: 0.6435, inertial_number_scale: 0.279,
+                                                grain_diameter: 1.15e-3, grain_density: 2500.0 }));
+        flowing["inertial_number_scale"] = json!(0.5);
+        flowing["inertial_friction"] = json!(0.3819);
+        let law = DruckerPrager::from_parameters(&Parameters::new("beads", flowing.as_object().unwrap())).unwrap().inertial;
+        assert_eq!(law.unwrap().inertial_number_scale, 0.5);
+        assert_eq!(law.unwrap().dynamic_friction, 0.3819);
+        flowing["inertial_friction"] = json!(1.5);
+        assert!(build(&Parameters::new("beads", flowing.as_object().unwrap())).is_ok());
+        for (key, value, message) in [
+            ("inertial_friction", json!(0.38), "must be finite and >= friction = 0.3819 (got 0.38)"),
+            ("inertial_number_scale", json!(0.0), "must be > 0 (got 0)"),
+            ("grain_diameter", json!(null), "is required with inertial_friction"),
+            ("grain_diameter", json!(0.0), "must be > 0 m (got 0)"),
+            ("grain_density", json!(null), "is required with inertial_friction"),
+            ("grain_density", json!(-1.0), "must be > 0 kg/m³ (got -1)"),
+        ] {
+            let mut bad = flowing.clone();
+            bad[key] = value;
+            assert_eq!(build(&Parameters::new("beads", bad.as_object().unwrap())).err().unwrap(),
+                       format!("materials.beads.{key}: {message}"));
+        }
+        flowing["mohr_coulomb_section"] = json!(true);
+        assert_eq!(build(&Parameters::new("beads", flowing.as_object().unwrap())).err().unwrap(),
+                   "materials.beads.inertial_friction: must be in [friction, 1) = [0.3819, 1) with mohr_coulomb_section (it is sin φ₂; got 1.5)");
+        flowing["inertial_friction"] = json!(0.999);
+        assert!(build(&Parameters::new("beads", flowing.as_object().unwrap())).is_ok());
+        flowing["inertial_friction"] = json!(1.0);
+        assert!(build(&Parameters::new("beads", flowing.as_object().unwrap())).is_err());
+        flowing["inertial_friction"] = json!(0.3);
+        assert!(build(&Parameters::new("beads", flowing.as_object().unwrap())).is_err());
         hexagon["mohr_coulomb_section"] = json!(1);
         assert_eq!(build(&Parameters::new("beads", hexagon.as_object().unwrap())).err().unwrap(),
                    "materials.beads.mohr_coulomb_section: must be true or false (got 1)");

@@ -71,6 +71,36 @@ const STATE_NAMES_RECOMPACTION: [&str; 5] = [
     "inertial_number",
 ];
 
+/// Inertial number I = |γ̇| d / √(P/ρ_s) of a stress and a rate of deformation
+/// `[D11, D22, D33, D12]` (module doc, "Law"): 0 without shear, `f64::INFINITY` where P ≤ 0
+/// and the material shears. Shared with drucker_prager.rs.
+#[inline(always)]
+pub fn inertial_number(stress: &Stress, d: &[f64; 4], grain_diameter: f64, grain_density: f64) -> f64 {
+    let mean = (d[0] + d[1] + d[2]) / 3.0;
+    let (e0, e1, e2) = (d[0] - mean, d[1] - mean, d[2] - mean);
+    let shear_rate = (2.0 * (e0 * e0 + e1 * e1 + e2 * e2 + 2.0 * d[3] * d[3])).sqrt();
+    if shear_rate == 0.0 {
+        return 0.0;
+    }
+    let pressure = -(stress[0] + stress[1] + stress[2]) / 3.0;
+    if !(pressure > 0.0) {
+        return f64::INFINITY;
+    }
+    shear_rate * grain_diameter / (pressure / grain_density).sqrt()
+}
+
+/// μ(I) = μ_s + (μ₂ − μ_s) I / (I₀ + I), μ₂ for I = ∞ (Jop, Forterre & Pouliquen 2006).
+/// Shared with drucker_prager.rs.
+#[inline(always)]
+pub fn inertial_friction(static_friction: f64, dynamic_friction: f64, inertial_number_scale: f64, inertial_number: f64) -> f64 {
+    let rise = dynamic_friction - static_friction;
+    if inertial_number.is_infinite() {
+        dynamic_friction
+    } else {
+        static_friction + rise * inertial_number / (inertial_number_scale + inertial_number)
+    }
+}
+
 /// Mohr–Coulomb with μ(I) friction (module doc).
 #[derive(Clone, Debug)]
 pub struct InertialMohrCoulomb {
@@ -142,28 +172,13 @@ impl InertialMohrCoulomb {
     /// (module doc); `f64::INFINITY` where P ≤ 0 and the material shears.
     #[inline]
     pub fn inertial_number(&self, stress: &Stress, d: &[f64; 4]) -> f64 {
-        let mean = (d[0] + d[1] + d[2]) / 3.0;
-        let (e0, e1, e2) = (d[0] - mean, d[1] - mean, d[2] - mean);
-        let shear_rate = (2.0 * (e0 * e0 + e1 * e1 + e2 * e2 + 2.0 * d[3] * d[3])).sqrt();
-        if shear_rate == 0.0 {
-            return 0.0;
-        }
-        let pressure = -(stress[0] + stress[1] + stress[2]) / 3.0;
-        if !(pressure > 0.0) {
-            return f64::INFINITY;
-        }
-        shear_rate * self.grain_diameter / (pressure / self.grain_density).sqrt()
+        inertial_number(stress, d, self.grain_diameter, self.grain_density)
     }
 
     /// μ(I) = μ_s + (μ₂ − μ_s) I / (I₀ + I); μ₂ for I = ∞.
     #[inline]
     pub fn friction(&self, inertial_number: f64) -> f64 {
-        let rise = self.dynamic_friction - self.static_friction;
-        if inertial_number.is_infinite() {
-            self.dynamic_friction
-        } else {
-            self.static_friction + rise * inertial_number / (self.inertial_number_scale + inertial_number)
-        }
+        inertial_friction(self.static_friction, self.dynamic_friction, self.inertial_number_scale, inertial_number)
     }
 
     /// The rate-independent model at friction angle asin μ (degrees), other parameters as `base`.

@@ -52,6 +52,10 @@ DEFAULTS: dict[str, Any] = {
     # drucker_prager only: the Mohr–Coulomb deviatoric section with sin φ = μ (stronger in
     # triaxial compression, the same in plane-strain shear; drucker_prager.rs).
     "mohr_coulomb_section": False,
+    # drucker_prager only: μ₂ of Jop et al.'s μ(I) with friction_coefficient as μ_s (glass beads:
+    # 0.3819 and 0.6435, I₀ = inertial_number_scale; with grain_diameter and grain_density
+    # above); None = constant friction.
+    "inertial_friction": None,
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
@@ -125,6 +129,7 @@ def collapse_scenario(
     nonlocal_amplitude: float = DEFAULTS["nonlocal_amplitude"],
     friction_coefficient: float = DEFAULTS["friction_coefficient"],
     mohr_coulomb_section: bool = DEFAULTS["mohr_coulomb_section"],
+    inertial_friction: float | None = DEFAULTS["inertial_friction"],
     base_friction: float | None = DEFAULTS["base_friction"],
     shape_function: str = DEFAULTS["shape_function"],
     update_scheme: str = DEFAULTS["update_scheme"],
@@ -234,6 +239,9 @@ def collapse_scenario(
                 **({"critical_packing_fraction": critical_packing_fraction,
                     "grain_density": grain_density}
                    if critical_packing_fraction is not None else {}),
+                **({"inertial_friction": inertial_friction, "inertial_number_scale": inertial_number_scale,
+                    "grain_diameter": grain_diameter, "grain_density": grain_density}
+                   if inertial_friction is not None else {}),
             } if material_model == "drucker_prager" else {
                 "model": "mohr_coulomb",
                 "density": density,
