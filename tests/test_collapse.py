@@ -90,8 +90,23 @@ def test_stray_particles_do_not_change_runout():
     assert with_strays["max_particle_height"] > base["max_particle_height"] + 3 * S
 
 
-def test_builder_geometry_walls_and_friction():
+def test_builder_default_model_is_the_chosen_one():
+    # Issue 15's chosen model: the cone at the beads' avalanche angle with the Mohr–Coulomb
+    # section and F-bar; Jaky's k0 = 1 − μ.
     s = collapse_scenario(0.8)
+    sand = s.materials["sand"]
+    assert (sand.model, sand.mohr_coulomb_section, sand.inertial_friction) == ("drucker_prager", True, None)
+    assert sand.friction == pytest.approx(math.tan(math.radians(27.4)))
+    assert sand.critical_packing_fraction is None
+    assert s.simulation.volumetric_averaging == "cell"
+    assert s.bodies[0].k0 == pytest.approx(1.0 - sand.friction)
+    assert s.walls[0].coefficient == pytest.approx(math.tan(math.radians(25.0)))
+    assert collapse_scenario(0.8, volumetric_averaging="none").simulation.volumetric_averaging == "none"
+    assert collapse_scenario(0.8, material_model="mohr_coulomb").materials["sand"].model == "mohr_coulomb"
+
+
+def test_builder_geometry_walls_and_friction():
+    s = collapse_scenario(0.8, material_model="mohr_coulomb")
     g = geometry_from_scenario(s)
     assert (g.radius, g.height, g.cells_per_radius) == pytest.approx((0.03, 0.024, 15.0))
     assert s.simulation.formulation == "axisymmetric" and s.simulation.output_interval == 0.02
@@ -123,19 +138,21 @@ def test_builder_geometry_walls_and_friction():
 
 
 def test_builder_recompaction_flag():
-    assert collapse_scenario(0.8).materials["sand"].recompaction is False  # the seed set-up
-    assert collapse_scenario(0.8, recompaction=True).materials["sand"].recompaction is True
+    mc = {"material_model": "mohr_coulomb"}
+    assert collapse_scenario(0.8, **mc).materials["sand"].recompaction is False  # the seed set-up
+    assert collapse_scenario(0.8, recompaction=True, **mc).materials["sand"].recompaction is True
 
 
 def test_builder_critical_packing_fraction():
-    sand = collapse_scenario(0.8).materials["sand"]
+    mc = {"material_model": "mohr_coulomb"}
+    sand = collapse_scenario(0.8, **mc).materials["sand"]
     assert sand.critical_packing_fraction is None and sand.grain_density is None  # off by default
-    sand = collapse_scenario(0.8, critical_packing_fraction=0.55).materials["sand"]
+    sand = collapse_scenario(0.8, critical_packing_fraction=0.55, **mc).materials["sand"]
     assert sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
     assert sand.cell_averaged_disconnection is False  # off by default
     sand = collapse_scenario(0.8, material_model="drucker_prager", critical_packing_fraction=0.55).materials["sand"]
     assert sand.model == "drucker_prager" and sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
-    sand = collapse_scenario(0.8, critical_packing_fraction=0.55, cell_averaged_disconnection=True).materials["sand"]
+    sand = collapse_scenario(0.8, critical_packing_fraction=0.55, cell_averaged_disconnection=True, **mc).materials["sand"]
     assert sand.cell_averaged_disconnection is True
 
 
@@ -146,10 +163,10 @@ def test_builder_material_models():
     assert sand.model == "drucker_prager" and sand.friction == pytest.approx(math.tan(math.radians(27.4)))
     assert sc.bodies[0].k0 == pytest.approx(1.0 - sand.friction)
     assert collapse_scenario(0.8, material_model="drucker_prager", friction_coefficient=0.4).bodies[0].k0 == 0.6
-    # the Mohr–Coulomb deviatoric section: off by default, passed through to the material
-    assert sand.mohr_coulomb_section is False
+    # the Mohr–Coulomb deviatoric section: on by default (the chosen model), passed through
+    assert sand.mohr_coulomb_section is True
     assert collapse_scenario(0.8, material_model="drucker_prager",
-                             mohr_coulomb_section=True).materials["sand"].mohr_coulomb_section is True
+                             mohr_coulomb_section=False).materials["sand"].mohr_coulomb_section is False
     from axmpm.scenario import Scenario, ScenarioError
 
     bad = collapse_scenario(0.8, material_model="drucker_prager", as_dict=True)
@@ -174,20 +191,20 @@ def test_examples_match_builder():
 
     root = Path(__file__).resolve().parents[1] / "examples"
     for name, a in (("a056", 0.56), ("a08", 0.8), ("a54", 5.4)):
+        # the seed paper's Mohr–Coulomb set-up (the builder's default until 2026-12-05)
         ex = Scenario.from_toml(root / f"column_collapse_{name}.toml")
-        assert ex.to_dict() == collapse_scenario(a).to_dict()
-    # Drucker–Prager at the avalanche angle with F-bar, 30 cells per radius.
-    data = collapse_scenario(5.4, cell_size=0.001, material_model="drucker_prager", as_dict=True)
-    data["simulation"]["volumetric_averaging"] = "cell"
+        assert ex.to_dict() == collapse_scenario(a, material_model="mohr_coulomb",
+                                                 volumetric_averaging="none").to_dict()
+    # Drucker–Prager at the avalanche angle with F-bar, 30 cells per radius, circular section.
+    data = collapse_scenario(5.4, cell_size=0.001, material_model="drucker_prager", mohr_coulomb_section=False,
+                             as_dict=True)
     ex = Scenario.from_toml(root / "column_collapse_a54_drucker_prager.toml")
     assert ex.to_dict() == Scenario.from_dict(data).to_dict()
     assert ex.materials["sand"].model == "drucker_prager" and ex.simulation.volumetric_averaging == "cell"
     # The same with the Mohr–Coulomb deviatoric section.
-    data = collapse_scenario(5.4, cell_size=0.001, material_model="drucker_prager", mohr_coulomb_section=True,
-                             as_dict=True)
-    data["simulation"]["volumetric_averaging"] = "cell"
+    # The same with the Mohr–Coulomb deviatoric section: the chosen model, the builder's default.
     ex = Scenario.from_toml(root / "column_collapse_a54_mohr_coulomb_section.toml")
-    assert ex.to_dict() == Scenario.from_dict(data).to_dict()
+    assert ex.to_dict() == collapse_scenario(5.4, cell_size=0.001).to_dict()
     assert ex.materials["sand"].mohr_coulomb_section is True
 
 
@@ -454,3 +471,13 @@ def test_sideways_energy_of_a_block_thrown_sideways_in_free_fall(tmp_path):
     assert e["peak_sideways_share"] == pytest.approx(u ** 2 / (g ** 2 * t * (t + dt)), rel=1e-4)
     assert e["peak_vertical_share"] == pytest.approx(t / (t + dt), rel=1e-4)
     assert e["released_share_at_peak"] >= 0.0
+
+
+def test_demo_names_the_model_it_runs():
+    from axmpm.cases.column_collapse.demo import model_description
+
+    assert model_description() == "Drucker-Prager (mu = 0.518 = tan 27.4 deg, Mohr-Coulomb section), F-bar"
+    assert model_description({"mohr_coulomb_section": False, "volumetric_averaging": "none"}) == \
+        "Drucker-Prager (mu = 0.518 = tan 27.4 deg)"
+    assert model_description({"material_model": "mohr_coulomb", "friction_angle": 22.0,
+                              "volumetric_averaging": "none"}) == "Mohr-Coulomb (phi 22, psi 0)"

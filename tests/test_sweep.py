@@ -216,7 +216,7 @@ def test_swept_friction_angle_moves_k0_and_every_base_coefficient():
     """The builder's base is a friction wall (walls.0) above a friction bottom face; both
     follow tan φ, the removable side wall (roller) does not."""
     collapse = pytest.importorskip("axmpm.cases.column_collapse")
-    data = collapse.collapse_scenario(0.56, as_dict=True)
+    data = collapse.collapse_scenario(0.56, material_model="mohr_coulomb", as_dict=True)
     bodies, keys = cal._linked(data, "sand", {})
     assert bodies == [0]
     assert keys == ["boundaries.bottom.coefficient", "walls.0.coefficient"]
@@ -239,7 +239,7 @@ def _collapse_config(tmp_path: Path) -> Path:
         paths = []
         for n, a in zip(names, (0.56, 0.8, 5.4)):
             p = tmp_path / n
-            p.write_text(tomli_w.dumps(collapse.collapse_scenario(a, as_dict=True)))
+            p.write_text(tomli_w.dumps(collapse.collapse_scenario(a, material_model="mohr_coulomb", as_dict=True)))
             paths.append(p)
     cfg = tmp_path / "calibrate.toml"
     cfg.write_text(f'scenario = "{paths[0]}"\npredict = ["{paths[1]}", "{paths[2]}"]\n'

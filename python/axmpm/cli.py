@@ -136,9 +136,9 @@ def _cmd_schema(args: argparse.Namespace) -> int:
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     if not args.column:
-        from .cases.column_collapse.demo import run_collapse_demo
+        from .cases.column_collapse.demo import model_description, run_collapse_demo
 
-        print("Granular column collapse, a = 0.56, axisymmetric, Mohr-Coulomb (phi 25, psi 0), "
+        print(f"Granular column collapse, a = 0.56, axisymmetric, {model_description()}, "
               "1 mm cells (30 per R_i), cpGIMP, pure FLIP")
         res = run_collapse_demo(args.out, overwrite=args.overwrite, threads=args.threads,
                                 progress=args.progress)

@@ -23,6 +23,28 @@ class CollapseDemoResult:
     report: Path | None
 
 
+def model_description(builder: dict[str, Any] | None = None) -> str:
+    """One line naming the collapse's material model and its parameters, from the builder's
+    defaults updated by ``builder``."""
+    import math
+
+    from .scenario import DEFAULTS
+
+    p = {**DEFAULTS, **(builder or {})}
+    model = p["material_model"]
+    if model == "drucker_prager":
+        mu = p["friction_coefficient"]
+        text = f"Drucker-Prager (mu = {mu:.3f} = tan {math.degrees(math.atan(mu)):.1f} deg"
+        text += ", Mohr-Coulomb section)" if p["mohr_coulomb_section"] else ")"
+    elif model == "granular_fluidity":
+        text = f"nonlocal granular fluidity (mu_s = {p['static_friction']})"
+    else:
+        text = f"Mohr-Coulomb (phi {p['friction_angle']:g}, psi {p['dilation_angle']:g})"
+    if p["volumetric_averaging"] == "cell":
+        text += ", F-bar"
+    return text
+
+
 def run_collapse_demo(out: str | Path = "runs/demo", overwrite: bool = False, threads: int = 0,
                       progress: bool | None = None, **builder: Any) -> CollapseDemoResult:
     """Run the a = 0.56 collapse; write ``profiles.png`` and ``demo.json``/``demo.md`` in ``out``."""

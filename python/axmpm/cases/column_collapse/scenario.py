@@ -38,10 +38,14 @@ DEFAULTS: dict[str, Any] = {
     "inertial_number_scale": 0.279,  # I₀ (Jop, Forterre & Pouliquen 2006, glass beads)
     "grain_diameter": GRAIN_DIAMETER,  # m, d in I
     "grain_density": 2500.0,  # kg/m³, glass (PHYSICS.md §6)
-    # The material model: "mohr_coulomb" (with the keys above) or "granular_fluidity", the
-    # nonlocal granular fluidity of Henann & Kamrin 2013 (granular_fluidity.rs), with its
-    # glass-bead μ_s, b and A below and grain_diameter, grain_density above.
-    "material_model": "mohr_coulomb",
+    # The material model. The default, chosen in issue 15 (docs/validation.md, "The chosen
+    # model"): "drucker_prager", the constant-friction cone at the beads' avalanche angle with
+    # the Mohr–Coulomb deviatoric section and F-bar (keys below). Also "mohr_coulomb" (the seed
+    # paper's model, with the keys above; the default until 2026-12-05) or
+    # "granular_fluidity", the nonlocal granular fluidity of Henann & Kamrin 2013
+    # (granular_fluidity.rs), with its glass-bead μ_s, b and A below and grain_diameter,
+    # grain_density above.
+    "material_model": "drucker_prager",
     "static_friction": 0.3819,  # μ_s (granular_fluidity; Jop et al. 2006 via Henann & Kamrin 2013)
     "friction_rate": 0.9377,  # b (granular_fluidity; Henann & Kamrin 2013)
     "nonlocal_amplitude": 0.48,  # A (granular_fluidity; Henann & Kamrin 2013)
@@ -51,7 +55,7 @@ DEFAULTS: dict[str, Any] = {
     "friction_coefficient": math.tan(math.radians(27.4)),
     # drucker_prager only: the Mohr–Coulomb deviatoric section with sin φ = μ (stronger in
     # triaxial compression, the same in plane-strain shear; drucker_prager.rs).
-    "mohr_coulomb_section": False,
+    "mohr_coulomb_section": True,
     # drucker_prager only: μ₂ of Jop et al.'s μ(I) with friction_coefficient as μ_s (glass beads:
     # 0.3819 and 0.6435, I₀ = inertial_number_scale; with grain_diameter and grain_density
     # above); None = constant friction.
@@ -59,6 +63,9 @@ DEFAULTS: dict[str, Any] = {
     "base_friction": None,  # Coulomb μ of the base; None = tan(friction_angle)
     "shape_function": "cpgimp",
     "update_scheme": "musl",
+    # Cell-mean dilatation (F-bar, docs/physics.md §1): without it the nearly isochoric plastic
+    # flow of the cone locks ("none" = each particle's own dilatation rate).
+    "volumetric_averaging": "cell",
     # Pure FLIP: the PIC part of a blend removes a fixed fraction of the particles' velocity
     # fluctuation *per step*, so its dissipation grows with the step count (stiffer E, finer
     # mesh) and set the runout (docs/validation.md, "Why the runout moved with the mesh").
@@ -133,6 +140,7 @@ def collapse_scenario(
     base_friction: float | None = DEFAULTS["base_friction"],
     shape_function: str = DEFAULTS["shape_function"],
     update_scheme: str = DEFAULTS["update_scheme"],
+    volumetric_averaging: str = DEFAULTS["volumetric_averaging"],
     flip_fraction: float = DEFAULTS["flip_fraction"],
     release_time: float = DEFAULTS["release_time"],
     gate_speed: float | None = DEFAULTS["gate_speed"],
@@ -206,6 +214,7 @@ def collapse_scenario(
             "formulation": formulation,
             "shape_function": shape_function,
             "update_scheme": update_scheme,
+            "volumetric_averaging": volumetric_averaging,
             "flip_fraction": flip_fraction,
             "end_time": end_time,
             "output_interval": output_interval,
