@@ -14,6 +14,14 @@ LAM = E * NU / ((1 + NU) * (1 - 2 * NU))
 MU = E / (2 * (1 + NU))
 
 
+def assert_named_error(material: dict, field: str, message: str) -> None:
+    """The material is refused with an error that names ``field`` and says ``message``."""
+    with pytest.raises(ScenarioError) as info:
+        validate_material(material)
+    text = str(info.value)
+    assert field in text and message in text, text
+
+
 def mc(phi=25.0, psi=0.0, c=0.0):
     return dict(model="mohr_coulomb", density=1550.0, youngs_modulus=E, poisson_ratio=NU,
                 friction_angle=phi, dilation_angle=psi, cohesion=c)
@@ -277,17 +285,12 @@ def test_disconnected_sand_is_stress_free_and_recompacts_without_rebound():
     ({"cell_averaged_disconnection": 1}, "cell_averaged_disconnection", "boolean"),
 ])
 def test_disconnection_input_errors_name_the_field(extra, field, message):
-    with pytest.raises(ScenarioError) as info:
-        validate_material(disconnecting(**extra))
-    text = str(info.value)
-    assert field in text and message in text, text
+    assert_named_error(disconnecting(**extra), field, message)
 
 
 def test_cell_averaged_disconnection_needs_the_critical_packing():
-    with pytest.raises(ScenarioError) as info:
-        validate_material({**mc(), "cell_averaged_disconnection": True})
-    text = str(info.value)
-    assert "cell_averaged_disconnection" in text and "needs critical_packing_fraction" in text, text
+    assert_named_error({**mc(), "cell_averaged_disconnection": True}, "cell_averaged_disconnection",
+                       "needs critical_packing_fraction")
     validate_material(disconnecting(cell_averaged_disconnection=True))  # accepted with it
 
 
@@ -352,10 +355,7 @@ def test_drucker_prager_disconnected_below_the_critical_packing_recompacts_witho
     ({"critical_packing_fraction": 0.55}, "grain_density", "is required with critical_packing_fraction"),
 ])
 def test_drucker_prager_disconnection_input_errors_name_the_field(extra, field, message):
-    with pytest.raises(ScenarioError) as info:
-        validate_material({**dp(), **extra})
-    text = str(info.value)
-    assert field in text and message in text, text
+    assert_named_error({**dp(), **extra}, field, message)
 
 
 def jop_beads(**extra):
@@ -391,8 +391,5 @@ def test_drucker_prager_mu_of_i_simple_shear_flows_at_the_friction_of_its_inerti
     ({"inertial_number_scale": 0.0}, "inertial_number_scale", ""),
 ])
 def test_drucker_prager_mu_of_i_input_errors_name_the_field(extra, field, message):
-    with pytest.raises(ScenarioError) as info:
-        validate_material(jop_beads(**extra))
-    text = str(info.value)
-    assert field in text and message in text, text
+    assert_named_error(jop_beads(**extra), field, message)
     validate_material(jop_beads(inertial_friction=1.2))  # μ₂ ≥ 1 is allowed on the circle

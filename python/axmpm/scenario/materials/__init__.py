@@ -82,6 +82,23 @@ def critical_packing_errors(prefix: str, density: float, grain_density: float | 
     return []
 
 
+def inertial_grain_errors(prefix: str, switch: str, density: float, grain_diameter: float | None,
+                          grain_density: float | None) -> list[tuple[str, str]]:
+    """The grain keys μ(I) needs (mohr_coulomb's ``inertial_friction_angle``, drucker_prager's
+    ``inertial_friction``, named by ``switch``): ``grain_diameter`` and ``grain_density`` given,
+    the grain density at least the bulk ``density``."""
+    from ..fields import fmt
+
+    errors = [(f"{prefix}{key}", f"is required with {switch}")
+              for key, value in (("grain_diameter", grain_diameter), ("grain_density", grain_density))
+              if value is None]
+    if grain_density is not None and grain_density < density:
+        errors.append((f"{prefix}grain_density",
+                       f"must be >= density = {fmt(density)} (the bulk density of the grains) "
+                       f"(got {fmt(grain_density)})"))
+    return errors
+
+
 def register_material(name: str) -> Callable[[type[MaterialModel]], type[MaterialModel]]:
     """Class decorator: register a material section under its ``model`` name."""
 

@@ -18,7 +18,7 @@ from typing import Literal
 from pydantic import Field
 
 from ..fields import Positive, bounded
-from . import ElasticMaterial, critical_packing_errors, register_material
+from . import ElasticMaterial, critical_packing_errors, inertial_grain_errors, register_material
 
 
 @register_material("drucker_prager")
@@ -69,13 +69,8 @@ class DruckerPrager(ElasticMaterial):
                 upper = "1 (it is sin phi_2 with mohr_coulomb_section)" if self.mohr_coulomb_section else "a finite number"
                 errors.append((f"{prefix}inertial_friction",
                                f"must be >= friction = {fmt(mu)} and < {upper} (got {fmt(mu2)})"))
-            for key in ("grain_diameter", "grain_density"):
-                if getattr(self, key) is None:
-                    errors.append((f"{prefix}{key}", "is required with inertial_friction"))
-            if self.grain_density is not None and self.grain_density < self.density:
-                errors.append((f"{prefix}grain_density",
-                               f"must be >= density = {fmt(self.density)} (the bulk density of the grains) "
-                               f"(got {fmt(self.grain_density)})"))
+            errors += inertial_grain_errors(prefix, "inertial_friction", self.density,
+                                            self.grain_diameter, self.grain_density)
         return errors + critical_packing_errors(prefix, self.density, self.grain_density,
                                                 self.critical_packing_fraction)
 

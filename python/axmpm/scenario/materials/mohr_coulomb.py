@@ -11,7 +11,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from ..fields import NonNegative, Positive, bounded, fmt
-from . import ElasticMaterial, critical_packing_errors, register_material
+from . import ElasticMaterial, critical_packing_errors, inertial_grain_errors, register_material
 
 #: Mohr–Coulomb ``recompaction`` when a scenario does not set it (same as the engine's
 #: ``mohr_coulomb::RECOMPACTION_DEFAULT``).
@@ -103,13 +103,8 @@ class MohrCoulomb(ElasticMaterial):
                 errors.append((f"{prefix}inertial_friction_angle",
                                f"must be >= friction_angle = {fmt(self.friction_angle)} and < 90 "
                                f"(got {fmt(self.inertial_friction_angle)})"))
-            for key in ("grain_diameter", "grain_density"):
-                if getattr(self, key) is None:
-                    errors.append((f"{prefix}{key}", "is required with inertial_friction_angle"))
-            if self.grain_density is not None and self.grain_density < self.density:
-                errors.append((f"{prefix}grain_density",
-                               f"must be >= density = {fmt(self.density)} (the bulk density of the grains) "
-                               f"(got {fmt(self.grain_density)})"))
+            errors += inertial_grain_errors(prefix, "inertial_friction_angle", self.density,
+                                            self.grain_diameter, self.grain_density)
         if self.cell_averaged_disconnection and self.critical_packing_fraction is None:
             errors.append((f"{prefix}cell_averaged_disconnection",
                            "= true needs critical_packing_fraction (it changes how the disconnected "
