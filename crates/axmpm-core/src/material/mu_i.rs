@@ -275,6 +275,26 @@ mod tests {
     }
 
     #[test]
+    fn inertial_number_of_a_general_rate_uses_the_whole_deviator() {
+        // |γ̇|² = 2 D′:D′ = 2 [tr(D²) − (tr D)²/3], with every component of D different (the
+        // hoop rate D33 included), against the invariant form; and pure shear in the plane,
+        // D = diag(γ̇/2, −γ̇/2, 0), which is simple shear rotated by 45°: |γ̇| = γ̇.
+        let (p, d_grain, rho): (f64, f64, f64) = (250.0, 1.15e-3, 2500.0);
+        let stress = [-p, -p, -p, 0.0];
+        let d: [f64; 4] = [3.0, -1.0, 0.5, 0.7];
+        let trace = d[0] + d[1] + d[2];
+        let tr_d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 2.0 * d[3] * d[3];
+        let rate = (2.0 * (tr_d2 - trace * trace / 3.0)).sqrt();
+        let expected = rate * d_grain / (p / rho).sqrt();
+        let got = inertial_number(&stress, &d, d_grain, rho);
+        assert!((got - expected).abs() < 1e-12 * expected, "{got} vs {expected}");
+        let gamma = 40.0;
+        let got = inertial_number(&stress, &[0.5 * gamma, -0.5 * gamma, 0.0, 0.0], d_grain, rho);
+        let simple = inertial_number(&stress, &[0.0, 0.0, 0.0, 0.5 * gamma], d_grain, rho);
+        assert!((got - simple).abs() < 1e-12 * simple, "{got} vs {simple}");
+    }
+
+    #[test]
     fn friction_rises_from_static_to_dynamic() {
         let m = model();
         assert_eq!(m.friction(0.0), m.static_friction);
