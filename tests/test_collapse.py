@@ -481,3 +481,28 @@ def test_demo_names_the_model_it_runs():
         "Drucker-Prager (mu = 0.518 = tan 27.4 deg)"
     assert model_description({"material_model": "mohr_coulomb", "friction_angle": 22.0,
                               "volumetric_averaging": "none"}) == "Mohr-Coulomb (phi 22, psi 0)"
+
+
+@pytest.mark.parametrize("key, value", [("friction_angle", 22.45), ("dilation_angle", 5.0), ("cohesion", 10.0),
+                                        ("recompaction", True), ("cell_averaged_disconnection", True),
+                                        ("inertial_friction_angle", 40.05)])
+def test_mohr_coulomb_keys_are_refused_with_the_other_models(key, value):
+    # The default model is the cone: a Mohr–Coulomb key would silently change nothing (or only
+    # the base), so the builder names it and the model instead.
+    for model in ("drucker_prager", "granular_fluidity"):
+        with pytest.raises(ValueError, match=f"{key}: is a mohr_coulomb parameter, and material_model is '{model}'"):
+            collapse_scenario(0.8, material_model=model, **{key: value})
+    extra = {"critical_packing_fraction": 0.55} if key == "cell_averaged_disconnection" else {}
+    assert collapse_scenario(0.8, material_model="mohr_coulomb", **extra, **{key: value}).materials["sand"].model \
+        == "mohr_coulomb"
+
+
+def test_a_mohr_coulomb_key_without_the_model_is_bad_input(tmp_path, capsys):
+    from axmpm.cli import main
+
+    out = tmp_path / "v"
+    code = main(["validate", "--cases", "a056", "--out", str(out), "--set", "friction_angle=22"])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "friction_angle: is a mohr_coulomb parameter" in err and "Traceback" not in err
+    assert not (out / "cases").exists()

@@ -395,7 +395,7 @@ def add_parser(sub: Any, kind: str) -> argparse.ArgumentParser:
                    help=f"replace a non-empty folder that is not an axmpm {command} output")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE",
                    help="override in every run: a dotted scenario key (simulation.cfl=0.3); column_collapse "
-                   "also takes its builder's parameters (cell_size=0.004, friction_angle=22, end_time=0.1, ...)")
+                   "also takes its builder's parameters (cell_size=0.004, friction_coefficient=0.45, material_model=mohr_coulomb, end_time=0.1, ...)")
     for case in all_cases(kind):
         case.add_options(p)
     return p

@@ -168,6 +168,19 @@ def collapse_scenario(
     if material_model not in ("mohr_coulomb", "granular_fluidity", "drucker_prager"):
         raise ValueError("material_model: must be 'mohr_coulomb', 'granular_fluidity' or 'drucker_prager' "
                          f"(got {material_model!r})")
+    if material_model != "mohr_coulomb":
+        # A Mohr–Coulomb key given to another model would change nothing but, for
+        # friction_angle, the base: refuse it rather than run something else than asked.
+        for key, given in (("friction_angle", friction_angle != DEFAULTS["friction_angle"]),
+                           ("dilation_angle", dilation_angle != DEFAULTS["dilation_angle"]),
+                           ("cohesion", cohesion != DEFAULTS["cohesion"]),
+                           ("recompaction", recompaction != DEFAULTS["recompaction"]),
+                           ("cell_averaged_disconnection", cell_averaged_disconnection),
+                           ("inertial_friction_angle", inertial_friction_angle is not None)):
+            if given:
+                raise ValueError(f"{key}: is a mohr_coulomb parameter, and material_model is {material_model!r} "
+                                 "(set material_model=mohr_coulomb, the seed set-up; the base's friction is "
+                                 "base_friction, the cone's friction_coefficient)")
     if material_model == "drucker_prager" and not (0.0 < friction_coefficient < 1.0):
         raise ValueError(f"friction_coefficient: must be > 0 and < 1 (got {friction_coefficient})")
     h = float(cell_size)
