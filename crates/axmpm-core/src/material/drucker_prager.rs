@@ -95,7 +95,7 @@
 //!   (complementary) elastic energy W_e, so that the model adds no residual of its own to the
 //!   energy budget (as granular_fluidity.rs).
 
-use super::mu_i::{inertial_friction, inertial_number, INERTIAL_NUMBER_CAP, INERTIAL_NUMBER_SCALE_DEFAULT};
+use super::mu_i::{grain_scale_parameters, inertial_friction, inertial_number, INERTIAL_NUMBER_CAP};
 use super::{
     jaumann_rotation, pressure_and_shear, rate_of_deformation, stable_jacobian, stress_power, take_out_disconnected_compaction,
     Kinematics,
@@ -245,20 +245,8 @@ impl DruckerPrager {
         if !(mu2 >= friction && mu2.is_finite()) {
             return Err(p.error("inertial_friction", format!("must be finite and >= friction = {friction} (got {mu2})")));
         }
-        let inertial_number_scale = p.f64_or("inertial_number_scale", INERTIAL_NUMBER_SCALE_DEFAULT)?;
-        if !(inertial_number_scale > 0.0 && inertial_number_scale.is_finite()) {
-            return Err(p.error("inertial_number_scale", format!("must be > 0 (got {inertial_number_scale})")));
-        }
-        let required = |key: &str, unit: &str| -> Result<f64, String> {
-            let v = p.optional_f64(key)?.ok_or_else(|| p.error(key, "is required with inertial_friction"))?;
-            if v > 0.0 && v.is_finite() { Ok(v) } else { Err(p.error(key, format!("must be > 0{unit} (got {v})"))) }
-        };
-        Ok(Some(InertialFriction {
-            dynamic_friction: mu2,
-            inertial_number_scale,
-            grain_diameter: required("grain_diameter", " m")?,
-            grain_density: required("grain_density", " kg/m³")?,
-        }))
+        let (inertial_number_scale, grain_diameter, grain_density) = grain_scale_parameters(p, "inertial_friction")?;
+        Ok(Some(InertialFriction { dynamic_friction: mu2, inertial_number_scale, grain_diameter, grain_density }))
     }
 }
 

@@ -89,6 +89,25 @@ pub fn inertial_number(stress: &Stress, d: &[f64; 4], grain_diameter: f64, grain
     shear_rate * grain_diameter / (pressure / grain_density).sqrt()
 }
 
+/// The keys of a table that set the scale of I, `(I₀, d, ρ_s)`: `inertial_number_scale`
+/// (default [`INERTIAL_NUMBER_SCALE_DEFAULT`]), and `grain_diameter` and `grain_density`, required
+/// once the law is switched on by the key `switch`. Shared with drucker_prager.rs.
+pub fn grain_scale_parameters(p: &Parameters, switch: &str) -> Result<(f64, f64, f64), String> {
+    let i0 = p.f64_or("inertial_number_scale", INERTIAL_NUMBER_SCALE_DEFAULT)?;
+    if !(i0 > 0.0 && i0.is_finite()) {
+        return Err(p.error("inertial_number_scale", format!("must be > 0 (got {i0})")));
+    }
+    let required = |key: &str, unit: &str| -> Result<f64, String> {
+        let v = p.optional_f64(key)?.ok_or_else(|| p.error(key, format!("is required with {switch}")))?;
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(p.error(key, format!("must be > 0{unit} (got {v})")))
+        }
+    };
+    Ok((i0, required("grain_diameter", " m")?, required("grain_density", " kg/m³")?))
+}
+
 /// μ(I) = μ_s + (μ₂ − μ_s) I / (I₀ + I), μ₂ for I = ∞ (Jop, Forterre & Pouliquen 2006).
 /// Shared with drucker_prager.rs.
 #[inline(always)]
@@ -149,22 +168,7 @@ impl InertialMohrCoulomb {
                 format!("must be in [friction_angle, 90) = [{phi}, 90) degrees (got {phi2})"),
             ));
         }
-        let i0 = p.f64_or("inertial_number_scale", INERTIAL_NUMBER_SCALE_DEFAULT)?;
-        if !(i0 > 0.0 && i0.is_finite()) {
-            return Err(p.error("inertial_number_scale", format!("must be > 0 (got {i0})")));
-        }
-        let d = p
-            .optional_f64("grain_diameter")?
-            .ok_or_else(|| p.error("grain_diameter", "is required with inertial_friction_angle"))?;
-        if !(d > 0.0 && d.is_finite()) {
-            return Err(p.error("grain_diameter", format!("must be > 0 m (got {d})")));
-        }
-        let rho_s = p
-            .optional_f64("grain_density")?
-            .ok_or_else(|| p.error("grain_density", "is required with inertial_friction_angle"))?;
-        if !(rho_s > 0.0 && rho_s.is_finite()) {
-            return Err(p.error("grain_density", format!("must be > 0 kg/m³ (got {rho_s})")));
-        }
+        let (i0, d, rho_s) = grain_scale_parameters(p, "inertial_friction_angle")?;
         Ok(Some(Self::new(base.clone(), phi2, i0, d, rho_s)))
     }
 
