@@ -44,14 +44,12 @@ use crate::config::{BoundariesConfig, Condition, WallConfig};
 use crate::grid::GridGeometry;
 
 pub mod axis;
-pub mod face;
+pub mod line;
 pub mod rigid_body;
-pub mod wall;
 
 pub use axis::SymmetryAxis;
-pub use face::GridFace;
+pub use line::LineConstraint;
 pub use rigid_body::RigidBody;
-pub use wall::Wall;
 
 /// What a constraint may read when it corrects nodal velocities.
 pub struct NodalContext<'a> {
@@ -177,7 +175,7 @@ impl NodeCondition {
 
 /// A condition on a fixed set of nodes (a grid face or a wall) with its records: the
 /// reaction impulse since it was last taken and the energy budget (module doc). Shared by
-/// [`GridFace`] and [`Wall`], which differ only in the nodes they pick and when they act.
+/// [`LineConstraint`]: the grid's faces and the walls.
 #[derive(Clone, Debug)]
 pub struct ConstrainedNodes {
     pub nodes: Vec<u32>,
@@ -293,14 +291,14 @@ impl Constraints {
     /// for `walls[i]`; free walls are left out).
     pub fn new(grid: &GridGeometry, faces: &BoundariesConfig, walls: &[WallConfig], axisymmetric: bool) -> Self {
         let mut list: Vec<Box<dyn Constraint>> = Vec::new();
-        for face in GridFace::all(grid, faces, axisymmetric) {
+        for face in LineConstraint::faces(grid, faces, axisymmetric) {
             list.push(Box::new(face));
         }
         if axisymmetric {
             list.push(Box::new(SymmetryAxis::new(grid)));
         }
         for (i, wall) in walls.iter().enumerate() {
-            if let Some(w) = Wall::new(format!("wall_{i}"), grid, wall) {
+            if let Some(w) = LineConstraint::wall(format!("wall_{i}"), grid, wall) {
                 list.push(Box::new(w));
             }
         }
