@@ -1,0 +1,66 @@
+"""The documentation states what the code accepts: every ```toml block of the README is a valid
+scenario, the tutorial's scenario passes ``axmpm check``, and the README names no key the schema
+lacks."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from axmpm.cli import main
+from axmpm.errors import ScenarioError
+from axmpm.scenario import Scenario
+
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+TUTORIAL = ROOT / "examples" / "footing_tutorial.toml"
+
+
+def fenced_blocks(text: str, language: str) -> list[str]:
+    """The bodies of the fenced code blocks of ``language`` in a markdown text, in order."""
+    return re.findall(rf"^```{language}[ \t]*\n(.*?)^```[ \t]*$", text, flags=re.MULTILINE | re.DOTALL)
+
+
+def test_fenced_blocks_are_found_and_a_bad_block_is_refused() -> None:
+    text = "intro\n```toml\na = 1\n```\n\n```python\nx = 1\n```\n```toml\n[grid]\n```\n"
+    assert fenced_blocks(text, "toml") == ["a = 1\n", "[grid]\n"]
+    with pytest.raises(ScenarioError):
+        Scenario.from_dict(tomllib.loads("[simulation]\nend_time = -1.0\n"))
+
+
+README_TOML = fenced_blocks(README.read_text(encoding="utf-8"), "toml")
+
+
+def test_the_readme_has_a_scenario_per_problem_type() -> None:
+    assert len(README_TOML) >= 2
+
+
+@pytest.mark.parametrize("index", range(len(README_TOML)))
+def test_every_readme_toml_block_is_a_valid_scenario(index: int) -> None:
+    Scenario.from_dict(tomllib.loads(README_TOML[index]), source=f"README.md toml block {index}")
+
+
+def test_the_tutorial_scenario_passes_axmpm_check(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["check", str(TUTORIAL), "--no-estimate"]) == 0
+    assert "is valid" in capsys.readouterr().out
+
+
+def test_the_readme_tutorial_block_is_the_tutorial_file() -> None:
+    """The README's excerpt of the tutorial gives the same scenario as the committed file, once
+    the file's defaults are filled in (the excerpt leaves out names, origin and particles per
+    cell, which are the defaults)."""
+    excerpt = Scenario.from_dict(tomllib.loads(README_TOML[0]))
+    full = Scenario.from_toml(TUTORIAL)
+    ignore = {"name"}
+
+    def strip(value: object) -> object:
+        if isinstance(value, dict):
+            return {k: strip(v) for k, v in value.items() if k not in ignore}
+        if isinstance(value, list):
+            return [strip(v) for v in value]
+        return value
+
+    assert strip(tomllib.loads(excerpt.to_toml())) == strip(tomllib.loads(full.to_toml()))
