@@ -64,3 +64,23 @@ def test_the_readme_tutorial_block_is_the_tutorial_file() -> None:
         return value
 
     assert strip(tomllib.loads(excerpt.to_toml())) == strip(tomllib.loads(full.to_toml()))
+
+
+def test_docs_scenario_md_is_generated_from_the_schema() -> None:
+    """docs/scenario.md documents every key of the schema: it is the output of
+    docs/scenario_reference.py (regenerate with `python docs/scenario_reference.py > docs/scenario.md`)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("scenario_reference", ROOT / "docs" / "scenario_reference.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    expected = module.reference()
+    assert "`stop_when_settled`" in expected and 'model = "mohr_coulomb"' in expected
+    assert (ROOT / "docs" / "scenario.md").read_text(encoding="utf-8") == expected, \
+        "docs/scenario.md is stale: run `python docs/scenario_reference.py > docs/scenario.md`"
+
+
+def test_the_readme_stays_a_first_screen() -> None:
+    """The README is for a user starting out (at most 250 lines); benchmarks, development and
+    studies live in docs/ and CONTRIBUTING.md."""
+    assert len(README.read_text(encoding="utf-8").splitlines()) <= 250
