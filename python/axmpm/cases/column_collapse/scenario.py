@@ -179,7 +179,7 @@ def collapse_scenario(
                            ("inertial_friction_angle", inertial_friction_angle is not None)):
             if given:
                 raise ValueError(f"{key}: is a mohr_coulomb parameter, and material_model is {material_model!r} "
-                                 "(set material_model=mohr_coulomb, the seed set-up; the base's friction is "
+                                 "(set material_model=mohr_coulomb for the Mohr–Coulomb set-up; the base's friction is "
                                  "base_friction, the cone's friction_coefficient)")
     if material_model == "drucker_prager" and not (0.0 < friction_coefficient < 1.0):
         raise ValueError(f"friction_coefficient: must be > 0 and < 1 (got {friction_coefficient})")
