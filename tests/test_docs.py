@@ -84,3 +84,78 @@ def test_the_readme_stays_a_first_screen() -> None:
     """The README is for a user starting out (at most 250 lines); benchmarks, development and
     studies live in docs/ and CONTRIBUTING.md."""
     assert len(README.read_text(encoding="utf-8").splitlines()) <= 250
+
+
+# --------------------------------------------------------------------------- references resolve
+
+TEXT_SUFFIXES = (".md", ".py", ".rs", ".toml")
+#: Files outside the repository that text used to cite; a clone has none of them.
+OUTSIDE = ("PHYSICS" + ".md", "INTERFACES" + ".md", "../" + "shared")
+#: History may name what it removed.
+HISTORY = {"CHANGELOG.md"}
+LINK = re.compile(r"\[[^\]\n]*\]\(([^)\s]+)\)")
+
+
+def tracked_files() -> list[str]:
+    """The repository's files: git's list, or a walk of the tree when this is not a checkout."""
+    import subprocess
+
+    try:
+        out = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
+        return [name for name in out.decode().split("\0") if name]
+    except (OSError, subprocess.CalledProcessError):
+        skip = {".git", ".venv", "target", "runs", ".pytest_cache"}
+        return [p.relative_to(ROOT).as_posix() for p in ROOT.rglob("*")
+                if p.is_file() and not skip.intersection(p.relative_to(ROOT).parts)]
+
+
+def dangling_links(text: str, source: str, files: set[str]) -> list[str]:
+    """The relative markdown links of ``text`` (a file at ``source``) that name no file or folder
+    of ``files``."""
+    folders = {str(Path(f).parent.as_posix()) for f in files} | {
+        p.as_posix() for f in files for p in Path(f).parents}
+    bad = []
+    for target in LINK.findall(text):
+        if target.startswith(("http://", "https://", "mailto:", "#")):
+            continue
+        path = target.split("#", 1)[0]
+        resolved = (Path(source).parent / path).as_posix()
+        normal = Path(*[]) if not resolved else Path(resolved)
+        parts: list[str] = []
+        for part in normal.parts:
+            if part == "..":
+                if not parts:
+                    parts.append("..")  # above the repository
+                    break
+                parts.pop()
+            elif part != ".":
+                parts.append(part)
+        name = "/".join(parts).rstrip("/")
+        if name not in files and name not in folders:
+            bad.append(f"{source}: [..]({target})")
+    return bad
+
+
+def test_dangling_links_are_found() -> None:
+    files = {"README.md", "docs/physics.md", "docs/studies/notes.md"}
+    text = "[a](docs/physics.md#1-the-method) [b](docs/missing.md) [c](https://x.org/y.md) [d](docs/studies/)" \
+           " [e](#limitations) [f](../outside.md)"
+    assert dangling_links(text, "README.md", files) == ["README.md: [..](docs/missing.md)",
+                                                        "README.md: [..](../outside.md)"]
+    assert dangling_links("[p](../physics.md) [q](physics.md)", "docs/studies/notes.md", files) == [
+        "docs/studies/notes.md: [..](physics.md)"]
+
+
+def test_no_text_file_refers_to_a_file_outside_the_repository() -> None:
+    files = set(tracked_files())
+    this = Path(__file__).resolve().relative_to(ROOT).as_posix()
+    problems = []
+    for name in sorted(files):
+        if not name.endswith(TEXT_SUFFIXES) or name == this or not (ROOT / name).is_file():
+            continue
+        text = (ROOT / name).read_text(encoding="utf-8", errors="replace")
+        if name not in HISTORY:
+            problems += [f"{name}: cites {outside}" for outside in OUTSIDE if outside in text]
+        if name.endswith(".md"):
+            problems += dangling_links(text, name, files)
+    assert not problems, "references to files not in the repository:\n" + "\n".join(problems)
