@@ -32,6 +32,10 @@ def test_fenced_blocks_are_found_and_a_bad_block_is_refused() -> None:
 
 
 README_TOML = fenced_blocks(README.read_text(encoding="utf-8"), "toml")
+#: The scenario examples of the reference docs (toml blocks with a [simulation] table).
+DOCS_SCENARIOS = [(path.relative_to(ROOT).as_posix(), block)
+                  for path in sorted((ROOT / "docs").rglob("*.md"))
+                  for block in fenced_blocks(path.read_text(encoding="utf-8"), "toml") if "[simulation]" in block]
 
 
 def test_the_readme_has_a_scenario_per_problem_type() -> None:
@@ -41,6 +45,11 @@ def test_the_readme_has_a_scenario_per_problem_type() -> None:
 @pytest.mark.parametrize("index", range(len(README_TOML)))
 def test_every_readme_toml_block_is_a_valid_scenario(index: int) -> None:
     Scenario.from_dict(tomllib.loads(README_TOML[index]), source=f"README.md toml block {index}")
+
+
+@pytest.mark.parametrize("source, block", DOCS_SCENARIOS, ids=[f"{p}:{i}" for i, (p, _) in enumerate(DOCS_SCENARIOS)])
+def test_every_scenario_example_of_the_docs_is_valid(source: str, block: str) -> None:
+    Scenario.from_dict(tomllib.loads(block), source=source)
 
 
 def test_the_tutorial_scenario_passes_axmpm_check(capsys: pytest.CaptureFixture[str]) -> None:
