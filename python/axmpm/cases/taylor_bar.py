@@ -49,7 +49,7 @@ SCHEMES: tuple[str, ...] = ("linear", "ugimp", "cpgimp", "cpdi2")
 MESHES: tuple[int, ...] = (8, 16, 24)
 QUICK_MESH = 8
 QUICK_SCHEME = "cpgimp"
-#: The schemes the issue's targets apply to (at the finest mesh).
+#: The schemes the enforced targets apply to (at the finest mesh).
 TARGET_SCHEMES: tuple[str, ...] = ("cpgimp", "cpdi2")
 PARTICLES_PER_CELL = 2
 #: Cells of grid below the wall z = 0.

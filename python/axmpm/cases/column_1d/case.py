@@ -574,7 +574,7 @@ def render_report(results: dict[str, Any]) -> str:
         "elongation plus 2 cells, so a particle leaving the grid means the column separated (numerical "
         "fracture) and its lower part fell; the engine's hint to enlarge grid.extent does not apply.",
         "",
-        "Axisymmetric hoop term: the seed's simple form (planar weights, V_p = A_p R_p, hoop term S_ip/R_p); "
+        "Axisymmetric hoop term: the simple form of Kiriyama & Fukutake (planar weights, V_p = A_p R_p, hoop term S_ip/R_p); "
         "the r-weighted variant of Nairn & Guilkey is not implemented. With ν = 0 and rollers on the lateral "
         "faces the hoop stress and the radial velocity are zero, so the axisymmetric runs reproduce plane strain; "
         "the twin comparison checks the R_p-weighted volumes and masses and the offset geometry, but this "
