@@ -118,9 +118,10 @@ def tracked_files() -> list[str]:
                 if p.is_file() and not skip.intersection(p.relative_to(ROOT).parts)]
 
 
-def dangling_links(text: str, source: str, files: set[str]) -> list[str]:
+def dangling_links(text: str, source: str, files: set[str], anchors=None) -> list[str]:
     """The relative markdown links of ``text`` (a file at ``source``) that name no file or folder
-    of ``files``."""
+    of ``files``, or (with ``anchors``, a function of a markdown file's path giving its heading
+    anchors) a heading that file does not have."""
     folders = {str(Path(f).parent.as_posix()) for f in files} | {
         p.as_posix() for f in files for p in Path(f).parents}
     bad = []
@@ -142,7 +143,30 @@ def dangling_links(text: str, source: str, files: set[str]) -> list[str]:
         name = "/".join(parts).rstrip("/")
         if name not in files and name not in folders:
             bad.append(f"{source}: [..]({target})")
+        elif "#" in target and name.endswith(".md") and anchors is not None:
+            if target.split("#", 1)[1] not in anchors(name):
+                bad.append(f"{source}: [..]({target}) (no such heading)")
     return bad
+
+
+def heading_anchors(text: str) -> set[str]:
+    """The anchors GitHub gives a markdown text's headings: lower case, punctuation dropped
+    (letters, digits, spaces, hyphens and underscores kept), spaces as hyphens; repeats get -1,
+    -2, ..."""
+    anchors: set[str] = set()
+    inside_code = False
+    for line in text.splitlines():
+        if line.startswith("```"):
+            inside_code = not inside_code
+        if inside_code or not re.match(r"#{1,6} ", line):
+            continue
+        slug = re.sub(r"[^\w\- ]", "", line.lstrip("#").strip().lower()).replace(" ", "-")
+        candidate, n = slug, 0
+        while candidate in anchors:
+            n += 1
+            candidate = f"{slug}-{n}"
+        anchors.add(candidate)
+    return anchors
 
 
 def test_dangling_links_are_found() -> None:
@@ -153,12 +177,21 @@ def test_dangling_links_are_found() -> None:
                                                         "README.md: [..](../outside.md)"]
     assert dangling_links("[p](../physics.md) [q](physics.md)", "docs/studies/notes.md", files) == [
         "docs/studies/notes.md: [..](physics.md)"]
+    heads = {"docs/physics.md": heading_anchors("# Title\n## 8. Soil–structure: rigid bodies\n```\n# not\n```\n## 8. Soil–structure: rigid bodies\n")}
+    assert heads["docs/physics.md"] == {"title", "8-soilstructure-rigid-bodies", "8-soilstructure-rigid-bodies-1"}
+    text = "[a](docs/physics.md#8-soilstructure-rigid-bodies) [b](docs/physics.md#9-gone)"
+    assert dangling_links(text, "README.md", files, heads.get) == [
+        "README.md: [..](docs/physics.md#9-gone) (no such heading)"]
 
 
 def test_no_text_file_refers_to_a_file_outside_the_repository() -> None:
     files = set(tracked_files())
     this = Path(__file__).resolve().relative_to(ROOT).as_posix()
     problems = []
+
+    def anchors(name: str) -> set[str]:
+        return heading_anchors((ROOT / name).read_text(encoding="utf-8"))
+
     for name in sorted(files):
         if not name.endswith(TEXT_SUFFIXES) or name == this or not (ROOT / name).is_file():
             continue
@@ -166,5 +199,5 @@ def test_no_text_file_refers_to_a_file_outside_the_repository() -> None:
         if name not in HISTORY:
             problems += [f"{name}: cites {outside}" for outside in OUTSIDE if outside in text]
         if name.endswith(".md"):
-            problems += dangling_links(text, name, files)
+            problems += dangling_links(text, name, files, anchors)
     assert not problems, "references to files not in the repository:\n" + "\n".join(problems)
