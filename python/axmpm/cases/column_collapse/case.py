@@ -24,7 +24,7 @@ from ...study.report import DASH, fmt, pct
 from .deposit import deposit_metrics, geometry_from_scenario, mass_fraction_beyond, profiles
 from .laws import compare, laws_for, primary_law
 from .scenario import collapse_scenario
-from .status import status_text
+from .status import law_scores, status_text
 
 #: The three validation columns: run name → aspect ratio a = H_i/R_i.
 CASES: dict[str, float] = {"a056": 0.56, "a08": 0.8, "a54": 5.4}
@@ -585,6 +585,12 @@ class ColumnCollapse:
 
     def console(self, results: list[dict[str, Any]], checks: list[dict[str, Any]]) -> str:
         text = results_table(results)
+        scores = law_scores(results)
+        if scores is not None:
+            text += (f"\ncalibrated, not validated: the default model was chosen on these laws (docs/validation.md); "
+                     f"against {primary_law(results[0].get('formulation') or 'axisymmetric').label} alone "
+                     f"{scores['single_within']} of {scores['single_runs']} within 10 %, mean "
+                     f"{100 * scores['single_mean']:.1f} %; reported, not enforced")
         failed = [r["name"] for r in results if r["status"] != "completed"]
         if failed:
             text += f"\nerror: case(s) did not complete: {', '.join(failed)}"
