@@ -201,3 +201,17 @@ def test_no_text_file_refers_to_a_file_outside_the_repository() -> None:
         if name.endswith(".md"):
             problems += dangling_links(text, name, files, anchors)
     assert not problems, "references to files not in the repository:\n" + "\n".join(problems)
+
+
+def test_the_readme_plot_runs_on_a_tutorial_run(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The README's Python plot reads a run of the tutorial's scenario (here a short, coarse one)
+    and writes its figure."""
+    from axmpm import run
+
+    (python,) = fenced_blocks(README.read_text(encoding="utf-8"), "python")
+    scenario = Scenario.from_toml(TUTORIAL, ["grid.cell_size=0.1", "simulation.end_time=0.1",
+                                             "simulation.output_interval=0.05"])
+    monkeypatch.chdir(tmp_path)
+    run(scenario, tmp_path / "runs" / "footing", threads=1)
+    exec(compile(python, "README.md", "exec"), {})
+    assert (tmp_path / "runs" / "footing" / "load_settlement.png").stat().st_size > 0
