@@ -1,4 +1,4 @@
-"""The exact 1D column solution (PHYSICS.md §4) checked against independent computations."""
+"""The exact 1D column solution (docs/physics.md §4) checked against independent computations."""
 
 from __future__ import annotations
 

@@ -88,7 +88,7 @@ def test_planar_laws_are_unconfirmed_and_tabulated_for_plane_strain():
     from axmpm.cases.column_collapse.laws import (KUMAR_2015_DEM, LAJEUNESSE_2005_PLANAR, LUBE_2005_PLANAR,
                                                   PLANAR_LAWS, laws_for, primary_law)
 
-    # PHYSICS.md §6a: secondary quotations of medium–low confidence: none confirmed (dashed).
+    # docs/physics.md §6a: secondary quotations of medium–low confidence: none confirmed (dashed).
     for law in PLANAR_LAWS:
         assert law.source and law.via and not law.confirmed
         assert all(not r.confirmed for r in law.runout)

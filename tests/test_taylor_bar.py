@@ -72,7 +72,8 @@ def test_metric_rules_by_hand() -> None:
 def test_energy_terms_by_hand() -> None:
     """At rest, one particle holding pressure p = −1 GPa (E_el = p²/(2K) V) and plastic work w:
     KE0 = E_el + W_p makes the error zero; plane strain totals are per metre."""
-    g, k = taylor_bar._elastic_moduli()
+    # Simo's copper, E = 117 GPa and ν = 0.35: G = E/(2(1 + ν)), K = E/(3(1 − 2ν)), by hand.
+    g, k = 117e9 / 2.7, 117e9 / 0.9
     p = -1e9
     elastic = p * p / (2 * k) * 2.0  # volume 2
     ke0 = 0.5 * 3.0 * 100.0**2  # mass 3
@@ -102,17 +103,24 @@ def test_checks_apply_the_targets_at_the_finest_mesh_only() -> None:
         _record("ugimp_n24", "ugimp", 24, 5.0e-3, 21.9e-3, e=0.02),    # not a target scheme: reported only
         _record("cpdi2_n16", "cpdi2", 16, 7.1e-3, 21.4e-3, e=-0.011),  # energy created: fails on any mesh
     ]
-    checks = {c["name"]: c["passed"] for c in taylor_bar.evaluate_checks(results)}
+    evaluated = taylor_bar.evaluate_checks(results)
+    checks = {c["name"]: c["passed"] for c in evaluated}
+    lf = "L_f within 1.5% of 21.45 mm (unconfirmed reference: reported, not enforced)"
     assert checks["cpgimp_n24: R_f within 3.0% of 7.12 mm"]
-    assert checks["cpgimp_n24: L_f within 1.5% of 21.45 mm"]
+    assert checks[f"cpgimp_n24: {lf}"]
     assert not checks["cpdi2_n24: R_f within 3.0% of 7.12 mm"]
-    assert checks["cpdi2_n24: L_f within 1.5% of 21.45 mm"]
+    assert checks[f"cpdi2_n24: {lf}"]
+    # R_f is enforced; L_f (an unconfirmed reference) is an aim: a miss is reported, the run passes
+    required = {c["name"]: c.get("required", True) for c in evaluated}
+    assert required["cpgimp_n24: R_f within 3.0% of 7.12 mm"] and not required[f"cpgimp_n24: {lf}"]
+    long_bar = taylor_bar.evaluate_checks([_record("cpgimp_n24", "cpgimp", 24, 7.12e-3, 21.45e-3 * 1.03)])
+    assert [(c["passed"], c.get("required", True)) for c in long_bar if "L_f" in c["name"]] == [(False, False)]
     assert checks["cpgimp_n08: energy balance within 1%"] and not checks["cpdi2_n16: energy balance within 1%"]
     assert not any(name.startswith(("cpgimp_n08: R_f", "cpdi2_n16: R_f", "ugimp_n24")) for name in checks)
     failed = _record("cpdi2_n24", "cpdi2", 24, None, None, e=None, status="failed")
     checks = {c["name"]: c["passed"] for c in taylor_bar.evaluate_checks([failed])}
     assert checks == {"cpdi2_n24: energy balance within 1%": False, "cpdi2_n24: R_f within 3.0% of 7.12 mm": False,
-                      "cpdi2_n24: L_f within 1.5% of 21.45 mm": False}
+                      f"cpdi2_n24: {lf}": False}
     quick = taylor_bar.evaluate_checks([_record("cpgimp_n08", "cpgimp", 8, 7e-3, 21.45e-3 * 1.06)], quick=True)
     assert [c["passed"] for c in quick] == [True, False]
 

@@ -1,4 +1,4 @@
-"""Verification: the 1D column under self-weight against its exact solution (PHYSICS.md §4).
+"""Verification: the 1D column under self-weight against its exact solution (docs/physics.md §4).
 
 Small deformation (ρ0 g H/E = 0.01), original (linear) MPM, 32 cells along the column,
 2 across, 2×2 particles per cell, in plane strain, in axisymmetric touching the axis, and in

@@ -1,4 +1,4 @@
-"""Verification at large deformation (ρ0 g H/E = 0.5, PHYSICS.md §4): CPDI2 matches the exact
+"""Verification at large deformation (ρ0 g H/E = 0.5, docs/physics.md §4): CPDI2 matches the exact
 neo-Hookean column in compression (38 % shortening at the base) and in tension (62 % stretch
 at the top), in plane strain and axisymmetric away from the axis. The seed paper found that
 only CPDI2 matches in tension; original MPM and uGIMP depart in compression.

@@ -62,8 +62,11 @@ fn cell_averaged_dilatation_removes_lateral_stress_noise_of_a_nearly_incompressi
             let plain = lateral_stress_noise(cylinder(shape, formulation, VolumetricAveraging::None));
             let averaged = lateral_stress_noise(cylinder(shape, formulation, VolumetricAveraging::Cell));
             eprintln!("{formulation:?} {shape:?}: lateral stress RMS / ρgH without {plain:.4}, with cell averaging {averaged:.4}");
-            assert!(averaged < 0.5 * plain, "{formulation:?} {shape:?}: {averaged:.4} not below half of {plain:.4}");
-            assert!(averaged < 0.05, "{formulation:?} {shape:?}: lateral stress noise {averaged:.4} of ρgH");
+            // docs/physics.md §1 states the numbers: locking fills the lateral stresses with noise of
+            // 15–20 % of ρgH, and the cell average takes it down to 0.15–0.34 %. Measured: without
+            // 0.149–0.197, with 0.0015–0.0034 (plane strain 0.0034, axisymmetric 0.0015).
+            assert!(plain > 0.10, "{formulation:?} {shape:?}: without averaging only {plain:.4} of ρgH: no locking to remove");
+            assert!(averaged < 0.005, "{formulation:?} {shape:?}: lateral stress noise {averaged:.4} of ρgH, above 0.5 %");
         }
     }
 }

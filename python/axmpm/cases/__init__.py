@@ -19,7 +19,7 @@ Adding a case = one module or sub-package in this folder that calls :func:`regis
 
     register(TaylorBar())
 
-The protocol (INTERFACES.md) is :class:`Case`; the optional hooks the driver uses when a case
+The protocol is :class:`Case`; the optional hooks the driver uses when a case
 has them are listed in :class:`CaseHooks`.
 """
 
@@ -52,7 +52,7 @@ class RunSpec:
 
 @runtime_checkable
 class Case(Protocol):
-    """What every case implements (INTERFACES.md). A result record, as the driver builds it, is
+    """What every case implements. A result record, as the driver builds it, is
     ``{"case", "run", "name", **run.params, **metrics, "reference", "relative_error", "run_dir",
     "status", "message", ...}``."""
 

@@ -1,5 +1,5 @@
 """``[[rigid_bodies]]``: rigid bodies moved by a prescribed velocity, in frictional contact with
-the material (issue #13; engine: ``constraint/rigid_body.rs``, docs/physics.md §8).
+the material (engine: ``constraint/rigid_body.rs``, docs/physics.md §8).
 
 ```toml
 [[rigid_bodies]]

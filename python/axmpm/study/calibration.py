@@ -647,7 +647,7 @@ def write_report(cal: Calibration, cfg: dict[str, Any], law: Any) -> Path:
 
 
 def add_parser(sub: Any) -> None:
-    p = sub.add_parser(NAME, help="calibrate E and phi on the a = 0.56 column collapse, predict a = 0.8, 5.4",
+    p = sub.add_parser(NAME, help="calibrate E and phi of the Mohr–Coulomb column collapse on a = 0.56, predict a = 0.8, 5.4",
                        description="Sweep E and phi on the a = 0.56 column collapse, pick the values of "
                        "least misfit to Lube et al. 2004, run a = 0.8 and 5.4 with them (blind "
                        "prediction) and write OUT/report.md.")

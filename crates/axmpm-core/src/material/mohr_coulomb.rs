@@ -81,7 +81,7 @@
 //!    D e1, normal C e2) gives σ_C2 = σ_B2 − ν (σ_B1 − σ_t + σ_B3 − σ_C3); if σ_C2 > σ_t the corner
 //!    (σ_t, σ_t, kσ_t − 2c√k), if σ_C2 < σ_C3 the corner (σ_t, kσ_t − 2c√k, kσ_t − 2c√k).
 //!
-//! ## Tresca: φ = 0 (undrained clay, total stress; PHYSICS.md §8, `docs/physics.md` §8)
+//! ## Tresca: φ = 0 (undrained clay, total stress; docs/physics.md §8)
 //!
 //! With `friction_angle = 0` (allowed when `cohesion > 0`; the dilation angle is then 0) the
 //! same formulas give Tresca, f = σ1 − σ3 − 2c: k = m = 1, the plane return moves σ1 and σ3 by

@@ -1,4 +1,4 @@
-"""``column_1d``: the 1D column under self-weight against its exact solution (PHYSICS.md §4).
+"""``column_1d``: the 1D column under self-weight against its exact solution (docs/physics.md §4).
 
 * :mod:`.exact`: the exact static solution (neo-Hookean and small-strain, compression and tension);
 * :mod:`.scenario`: the column scenario builder and the errors of a run against the exact solution;

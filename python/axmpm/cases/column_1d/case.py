@@ -1,4 +1,4 @@
-"""The ``column_1d`` verification case: the large-deformation column of PHYSICS.md §4 for every
+"""The ``column_1d`` verification case: the large-deformation column of docs/physics.md §4 for every
 interpolation scheme (``axmpm verify``, the default verification).
 
 The 1D column under self-weight (H = 1 m, ρ0 = 1000 kg/m³, g = 10 m/s², E = 20 kPa, ν = 0,
@@ -528,7 +528,7 @@ def render_report(results: dict[str, Any]) -> str:
         f"{', '.join(map(str, results['resolutions']))} cells along the column, {len(cases)} cases, "
         f"{results['jobs']} job(s) × {results['threads_per_run']} thread(s), {results['wall_seconds']:.0f} s wall).",
         "",
-        f"Problem (PHYSICS.md §4): H = {p['height']:g} m, ρ0 = {p['density']:g} kg/m³, g = {p['gravity']:g} m/s², "
+        f"Problem (docs/physics.md §4): H = {p['height']:g} m, ρ0 = {p['density']:g} kg/m³, g = {p['gravity']:g} m/s², "
         f"E = {p['youngs_modulus']:g} Pa, ν = 0, neo-Hookean, ρ0 g H/E = {p['load_ratio']:g}; lateral faces on "
         f"rollers, {p['cells_across']} cells across, {p['particles_per_cell']}×{p['particles_per_cell']} particles "
         f"per cell; gravity ramped over {p['ramp_periods']:g} fundamental periods, then {p['settle_periods']:g} "
@@ -574,7 +574,7 @@ def render_report(results: dict[str, Any]) -> str:
         "elongation plus 2 cells, so a particle leaving the grid means the column separated (numerical "
         "fracture) and its lower part fell; the engine's hint to enlarge grid.extent does not apply.",
         "",
-        "Axisymmetric hoop term: the seed's simple form (planar weights, V_p = A_p R_p, hoop term S_ip/R_p); "
+        "Axisymmetric hoop term: the simple form of Kiriyama & Fukutake (planar weights, V_p = A_p R_p, hoop term S_ip/R_p); "
         "the r-weighted variant of Nairn & Guilkey is not implemented. With ν = 0 and rollers on the lateral "
         "faces the hoop stress and the radial velocity are zero, so the axisymmetric runs reproduce plane strain; "
         "the twin comparison checks the R_p-weighted volumes and masses and the offset geometry, but this "

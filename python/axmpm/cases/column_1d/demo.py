@@ -1,5 +1,5 @@
 """``axmpm demo --column``: the 1D column in compression at small deformation
-(ρ0 g H/E = 0.01), linear MPM, axisymmetric, against the exact solution of PHYSICS.md §4."""
+(ρ0 g H/E = 0.01), linear MPM, axisymmetric, against the exact solution of docs/physics.md §4."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Exact static solution of a 1D column under self-weight (PHYSICS.md §4).
+"""Exact static solution of a 1D column under self-weight (docs/physics.md §4).
 
 Uniaxial strain (lateral faces on rollers), compressible neo-Hookean law with ν = 0
 (μ = E/2, λ = 0), which along the column reduces to

@@ -1,4 +1,4 @@
-"""The 1D column under self-weight (PHYSICS.md §4) as an axmpm scenario, and its errors.
+"""The 1D column under self-weight (docs/physics.md §4) as an axmpm scenario, and its errors.
 
 :func:`column_scenario` builds a column of width w = cells_across·h and height H on rollers
 (uniaxial strain), in plane strain or axisymmetric (optionally with its inner face at

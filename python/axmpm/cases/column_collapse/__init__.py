@@ -1,4 +1,4 @@
-"""``column_collapse``: granular column collapses against the empirical laws (PHYSICS.md §6).
+"""``column_collapse``: granular column collapses against the empirical laws (docs/physics.md §6).
 
 * :mod:`.scenario`: the collapse scenario builder (:func:`collapse_scenario`);
 * :mod:`.deposit`: the deposit analysis (profiles, runout, final height);

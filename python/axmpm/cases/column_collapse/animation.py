@@ -1,4 +1,4 @@
-"""Animated GIF of a column collapse (issue 15): the particles of every output frame, coloured
+"""Animated GIF of a column collapse: the particles of every output frame, coloured
 by speed, written with matplotlib's Pillow writer (Pillow is a matplotlib dependency)."""
 
 from __future__ import annotations

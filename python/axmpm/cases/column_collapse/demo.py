@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-#: Cell size of the demo, m: 30 cells per R_i = 3 cm (issue 15: the project's best a = 0.56 run).
+#: Cell size of the demo, m: 30 cells per R_i = 3 cm, where a ≤ 0.8 is converged (docs/validation.md).
 DEMO_CELL_SIZE = 0.001
 
 

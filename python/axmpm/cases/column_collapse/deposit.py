@@ -1,6 +1,6 @@
 """Granular column collapse: the deposit analysis (profiles, runout, final height).
 
-The set-up (PHYSICS.md §6, docs/validation-sources.md): a cylinder of sand of radius R_i
+The set-up (docs/physics.md §6, docs/validation-sources.md): a cylinder of sand of radius R_i
 and height H_i = a R_i stands on a rough base inside a rigid cylinder wall; the wall is
 removed and the column collapses into a deposit of runout radius R∞ and central height
 H∞. Experiments (Lube et al. 2004, Lajeunesse et al. 2004) find the deposit depends on

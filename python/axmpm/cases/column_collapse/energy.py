@@ -1,4 +1,4 @@
-"""The energy budget of a collapse run (issue 15), read from its ``history.csv``.
+"""The energy budget of a collapse run, read from its ``history.csv``.
 
 The engine accumulates every term on its own (``Simulation.energies``, docs/physics.md §1):
 ``gravity_work`` (potential energy released), ``kinetic_energy``, ``elastic_energy`` (stored,

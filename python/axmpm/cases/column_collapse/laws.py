@@ -230,7 +230,7 @@ LAWS: tuple[Law, ...] = (LUBE_2004, LAJEUNESSE_2004_KK, LAJEUNESSE_2004_STARON, 
 # Plane-strain runs compare with two-dimensional collapses: a column of length L_i against
 # the back wall of a channel, released by a gate (the roller at x = 0 of the plane-strain
 # scenario is that wall), (R∞ − L_i)/L_i against a = H_i/L_i. Every value below is a
-# secondary quotation (docs/physics.md §6a, PHYSICS.md §6a: "medium–low confidence"); none is
+# secondary quotation (docs/physics.md §6a: "medium–low confidence"); none is
 # confirmed, so every branch is drawn dashed.
 PLANAR_CONFIDENCE = "medium-low"
 LUBE05 = "Lube, Huppert, Sparks & Freundt (2005), J. Fluid Mech. 541 (collapses in a channel)"
@@ -243,10 +243,10 @@ LUBE_2005_PLANAR = Law(
     key="lube2005_planar",
     label="Lube et al. 2005 (planar)",
     source=LUBE05,
-    via="PHYSICS.md §6a (secondary quotations)",
+    via="docs/physics.md §6a (secondary quotations)",
     runout=(
-        Regime(1.2, 1.0, 0.0, 2.3, PLANAR_CONFIDENCE, "PHYSICS.md §6a; transition quoted as 1.8, 2.3, 2.8"),
-        Regime(1.9, 2 / 3, 2.3, math.inf, PLANAR_CONFIDENCE, "PHYSICS.md §6a"),
+        Regime(1.2, 1.0, 0.0, 2.3, PLANAR_CONFIDENCE, "docs/physics.md §6a; transition quoted as 1.8, 2.3, 2.8"),
+        Regime(1.9, 2 / 3, 2.3, math.inf, PLANAR_CONFIDENCE, "docs/physics.md §6a"),
     ),
     notes="Transition quoted as 1.8, 2.3 and 2.8; 2.3 used. The branches do not meet there "
     "(2.76 → 3.31 at a = 2.3).",
@@ -257,10 +257,10 @@ LAJEUNESSE_2005_PLANAR = Law(
     key="lajeunesse2005_planar",
     label="Lajeunesse et al. 2005 (planar)",
     source=LAJ05,
-    via="PHYSICS.md §6a (one secondary source)",
+    via="docs/physics.md §6a (one secondary source)",
     runout=(
-        Regime(1.8, 1.0, 0.0, 3.0, PLANAR_CONFIDENCE, "PHYSICS.md §6a (one source)"),
-        Regime(2.3, 2 / 3, 3.0, math.inf, PLANAR_CONFIDENCE, "PHYSICS.md §6a (one source)"),
+        Regime(1.8, 1.0, 0.0, 3.0, PLANAR_CONFIDENCE, "docs/physics.md §6a (one source)"),
+        Regime(2.3, 2 / 3, 3.0, math.inf, PLANAR_CONFIDENCE, "docs/physics.md §6a (one source)"),
     ),
     notes="Jumps at a = 3 (5.40 → 4.78).",
 )
@@ -271,10 +271,10 @@ KUMAR_2015_DEM = Law(
     key="kumar2015_dem",
     label="Kumar 2015 (2D DEM)",
     source=KUMAR15,
-    via="PHYSICS.md §6a (quotations differ)",
+    via="docs/physics.md §6a (quotations differ)",
     runout=(
-        Regime(1.67, 1.0, 0.0, 2.5, PLANAR_CONFIDENCE, "PHYSICS.md §6a; transition quoted 2.3–2.7"),
-        Regime(2.6, 2 / 3, 2.5, math.inf, PLANAR_CONFIDENCE, "PHYSICS.md §6a; coefficient quoted 2.5–2.7"),
+        Regime(1.67, 1.0, 0.0, 2.5, PLANAR_CONFIDENCE, "docs/physics.md §6a; transition quoted 2.3–2.7"),
+        Regime(2.6, 2 / 3, 2.5, math.inf, PLANAR_CONFIDENCE, "docs/physics.md §6a; coefficient quoted 2.5–2.7"),
     ),
     notes="Coefficient of the a^(2/3) branch quoted as 2.5–2.7 (2.6 used), transition 2.3–2.7 (2.5 used).",
 )

@@ -1,4 +1,4 @@
-"""Granular column collapse: the scenario builder (PHYSICS.md §6, docs/validation.md).
+"""Granular column collapse: the scenario builder (docs/physics.md §6, docs/validation.md).
 
 A cylinder of sand of radius R_i and height H_i = a R_i stands on a rough base inside a rigid
 cylinder wall; the wall is removed and the column collapses (:func:`collapse_scenario`).
@@ -18,7 +18,7 @@ DEFAULTS: dict[str, Any] = {
     "radius": 0.03,  # m, R_i; the experiments' own radius is unconfirmed (validation-sources §2)
     "cell_size": 0.002,  # m, as in the seed paper
     "particles_per_cell": 2,  # per direction, as in the seed paper
-    "density": 1550.0,  # kg/m³, glass-bead bulk density ≈ 1500–1600 (PHYSICS.md §6)
+    "density": 1550.0,  # kg/m³, glass-bead bulk density ≈ 1500–1600 (docs/physics.md §6)
     "youngs_modulus": 1.0e6,  # Pa
     "poisson_ratio": 0.3,
     "friction_angle": 25.0,  # degrees
@@ -37,7 +37,7 @@ DEFAULTS: dict[str, Any] = {
     "inertial_friction_angle": None,  # degrees
     "inertial_number_scale": 0.279,  # I₀ (Jop, Forterre & Pouliquen 2006, glass beads)
     "grain_diameter": GRAIN_DIAMETER,  # m, d in I
-    "grain_density": 2500.0,  # kg/m³, glass (PHYSICS.md §6)
+    "grain_density": 2500.0,  # kg/m³, glass (docs/physics.md §6)
     # The material model. The default, chosen in issue 15 (docs/validation.md, "The chosen
     # model"): "drucker_prager", the constant-friction cone at the beads' avalanche angle with
     # the Mohr–Coulomb deviatoric section and F-bar (keys below). Also "mohr_coulomb" (the seed
@@ -51,7 +51,7 @@ DEFAULTS: dict[str, Any] = {
     "nonlocal_amplitude": 0.48,  # A (granular_fluidity; Henann & Kamrin 2013)
     # "drucker_prager" (drucker_prager.rs): the constant-friction cone τ = μ p; Rousseau et al.
     # (2023) set μ to the tangent of the avalanche angle, 27.4° for Lajeunesse et al.'s beads
-    # (PHYSICS §6a via Kumar 2015, medium confidence).
+    # (docs/physics.md §6a via Kumar 2015, medium confidence).
     "friction_coefficient": math.tan(math.radians(27.4)),
     # drucker_prager only: the Mohr–Coulomb deviatoric section with sin φ = μ (stronger in
     # triaxial compression, the same in plane-strain shear; drucker_prager.rs).
@@ -179,7 +179,7 @@ def collapse_scenario(
                            ("inertial_friction_angle", inertial_friction_angle is not None)):
             if given:
                 raise ValueError(f"{key}: is a mohr_coulomb parameter, and material_model is {material_model!r} "
-                                 "(set material_model=mohr_coulomb, the seed set-up; the base's friction is "
+                                 "(set material_model=mohr_coulomb for the Mohr–Coulomb set-up; the base's friction is "
                                  "base_friction, the cone's friction_coefficient)")
     if material_model == "drucker_prager" and not (0.0 < friction_coefficient < 1.0):
         raise ValueError(f"friction_coefficient: must be > 0 and < 1 (got {friction_coefficient})")

@@ -1,4 +1,4 @@
-"""Report of the aspect-ratio sweep (issue 15): ``axmpm validate --case column_collapse
+"""Report of the aspect-ratio sweep: ``axmpm validate --case column_collapse
 --aspect-ratios ...``.
 
 * A power law (R∞ − R_i)/R_i = λ a^β fitted on each side of a break point by least squares in
@@ -26,6 +26,7 @@ import numpy as np
 from ...study.report import DASH, fmt, pct
 from .energy import TERMS, plot_energy
 from .laws import TABLE_LAWS
+from .status import status_text
 
 __all__ = ["T975", "t975", "fit_power_law", "fit_two_branches", "sweep_report", "plot_sweep_laws"]
 
@@ -213,7 +214,7 @@ def law_agreement(cases: list[dict[str, Any]], fits: dict[str, Any] | None,
     without a fit): per law, the mean |relative difference| of the runout over the runs the law
     covers and how many of them lie within `within`; the closest law is the one with the
     smallest mean. Where the laws disagree with each other this says which one the model
-    follows (issue 15 asks the report to say so)."""
+    follows."""
     if fits is None:
         groups = [("all a", cases)]
     else:
@@ -316,7 +317,9 @@ def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any
         energy_lines.append(f"* {c['name']} (a = {c['aspect_ratio']:.3g}, t = {e['time']:.2f} s, released "
                             f"{e['released']:.4g} J): {parts}")
     failed = [c["name"] for c in cases if c.get("status") != "completed"]
-    return f"""# axmpm validation: aspect-ratio sweep of the granular column collapse (issue 15)
+    return f"""# axmpm validation: aspect-ratio sweep of the granular column collapse
+
+{status_text(cases)}
 
 Formulation: {document['formulation']}. Mesh: {', '.join(f'{x:g}' for x in cpr) or DASH} cells per R_i.
 Overrides: {', '.join(document['overrides']) or 'none'}. Runs: {len(cases)} ({len(ok)} analysed{', failed: ' + ', '.join(failed) if failed else ''}).
@@ -337,7 +340,7 @@ docs/physics.md §6, `axmpm/cases/column_collapse/laws.py`.
 
 {_laws_note(_formulation(cases))} mean J = V/V0 over the deposit's particles at the last frame. Energy
 columns: shares of the potential energy released at the last output (docs/physics.md §1,
-"Energy budget"): plastic = the material's own dissipation (Σ σ:Δε^p of its returns), base friction / impact = the
+"Energy budget"): plastic = the material's own dissipation, base friction / impact = the
 tangential / normal kinetic energy removed by the base's velocity corrections, residual = what
 the scheme loses (released − all terms). Peak sideways KE: the largest kinetic energy of the
 radial (plane strain: horizontal) motion over the output frames, as a share of the potential
