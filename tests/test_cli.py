@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import signal
 import subprocess
 import sys
@@ -21,6 +22,27 @@ def assert_input_error(result: subprocess.CompletedProcess[str], *keys: str) -> 
     assert "Traceback" not in result.stderr
     for key in keys:
         assert f"error: {key}: " in result.stderr, result.stderr
+
+
+# --------------------------------------------------------------------------- version
+
+
+def test_version_names_the_package_the_engine_and_its_instruction_set() -> None:
+    from importlib.metadata import version
+
+    from axmpm import _core
+
+    result = run_cli("--version")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == f"axmpm {version('axmpm')} (engine {_core.__version__}, {_core.instruction_set()})\n"
+    assert _core.instruction_set() in ("avx2", "baseline")
+
+
+def test_version_reports_the_baseline_when_asked_for() -> None:
+    env = dict(os.environ, AXMPM_ISA="baseline")
+    result = subprocess.run([sys.executable, "-m", "axmpm.cli", "--version"], capture_output=True, text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.rstrip().endswith(", baseline)")
 
 
 # --------------------------------------------------------------------------- check / schema

@@ -21,12 +21,37 @@ EXIT_FAILED = 3
 EXIT_INTERRUPTED = 130
 
 
+def version_text() -> str:
+    """``axmpm VERSION (engine VERSION, INSTRUCTION_SET)``: the installed package's version and
+    the compiled engine's, with the instruction set its loops run with on this CPU."""
+    from . import __version__
+
+    try:
+        from . import _core  # type: ignore[attr-defined]
+    except ImportError:
+        return f"axmpm {__version__} (engine not built: run `make install`)"
+    return f"axmpm {__version__} (engine {_core.__version__}, {_core.instruction_set()})"
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: like argparse's, but the engine is loaded only when asked."""
+
+    def __init__(self, option_strings: list[str], dest: str = argparse.SUPPRESS, **kwargs: object):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
+                         help="print the version of axmpm and of its engine, then exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object, **kwargs: object) -> None:
+        print(version_text())
+        parser.exit()
+
+
 def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="axmpm",
         description="Material point method for large-deformation geomechanics "
         "(plane strain and axisymmetric).",
     )
+    parser.add_argument("--version", action=_VersionAction)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     set_help = "override a scenario value, e.g. --set materials.sand.density=1600 (repeatable)"
