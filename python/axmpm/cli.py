@@ -95,6 +95,7 @@ def _parser() -> argparse.ArgumentParser:
 #: Adding a command = one new module + one line here.
 COMMAND_MODULES: tuple[str, ...] = (
     "axmpm.run.resume",
+    "axmpm.run.plot",
     "axmpm.cases.verify",
     "axmpm.bench",
     "axmpm.study.sweep",
