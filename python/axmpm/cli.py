@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 from .errors import RunError, ScenarioError
+from .run.runner import THREADS_DEFAULT, THREADS_HELP, thread_count
 
 EXIT_OK = 0
 EXIT_INPUT = 2
@@ -61,7 +62,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help=set_help)
     p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
-    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0, help=THREADS_HELP)
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="show a progress bar (default: when stderr is a terminal)")
 
@@ -72,7 +73,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="print the resolved scenario (every default filled in)")
     p.add_argument("--estimate", action=argparse.BooleanOptionalAction, default=True,
                    help="build the run and time a few steps to estimate the run time (default: on)")
-    p.add_argument("--threads", type=int, default=0, help="worker threads for the estimate, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0,
+                   help=f"engine threads the run-time estimate assumes, as `axmpm run --threads`; {THREADS_DEFAULT}")
 
     sub.add_parser("schema", help="print the JSON Schema of scenario files")
 
@@ -82,7 +84,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="the 1D column vs its exact solution (axisymmetric, linear MPM) instead")
     p.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder (default runs/demo)")
     p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
-    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0, help=THREADS_HELP)
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
 
     for module in _command_modules():

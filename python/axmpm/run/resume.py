@@ -12,13 +12,15 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .runner import THREADS_HELP, thread_count
+
 NAME = "resume"
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser(NAME, help="continue an interrupted or killed run from its latest checkpoint")
     p.add_argument("run_dir", type=Path, metavar="DIR", help="the run's output folder")
-    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0, help=THREADS_HELP)
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="show a progress bar (default: when stderr is a terminal)")
     return p

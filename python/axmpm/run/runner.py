@@ -58,11 +58,29 @@ from .output import (
 )
 from ..scenario import Scenario
 
-__all__ = ["run", "resume", "check_output_folder", "prepare_output_folder", "checkpoint_every",
+__all__ = ["run", "resume", "THREADS_HELP", "THREADS_DEFAULT", "thread_count", "check_output_folder", "prepare_output_folder", "checkpoint_every",
            "DEFAULT_CHUNK_STEPS"]
 
 #: Steps per ``advance`` call: small enough for a responsive Ctrl-C and progress bar.
 DEFAULT_CHUNK_STEPS = 200
+
+
+#: Help of a ``--threads`` option that sets the engine threads of one run.
+THREADS_DEFAULT = "0 = every core the problem can use, one per 10,000 particles (default)"
+THREADS_HELP = f"engine threads, {THREADS_DEFAULT}"
+
+
+def thread_count(text: str) -> int:
+    """argparse type of ``--threads``: an integer >= 0 (0: the engine chooses, see :data:`THREADS_HELP`)."""
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0 (got {text!r})") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0 (got {value})")
+    return value
 
 
 def rigid_body_columns(sim: Any) -> dict[str, float]:
