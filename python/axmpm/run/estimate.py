@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import RunError
+from .runner import _engine_class
 
 __all__ = ["RunEstimate", "estimate_run", "format_duration"]
 
@@ -60,8 +61,6 @@ class RunEstimate:
 def estimate_run(scenario: Any, threads: int = 0) -> RunEstimate:
     """Builds the engine for ``scenario``, reads its time step and times a few steps (at most
     about :data:`MEASURE_SECONDS` of wall time)."""
-    from .runner import _engine_class
-
     simulation, failure = _engine_class()
     try:
         sim = simulation(scenario.engine_json(), int(threads))

@@ -51,6 +51,7 @@ __all__ = [
     "Run",
     "load_run",
     "is_run_folder",
+    "is_completed_run",
     "stress_names",
     "write_frame",
     "write_pvd",
@@ -485,6 +486,17 @@ def remove_temporary_files(run_dir: Path) -> None:
 
 
 # --------------------------------------------------------------------------- reading
+
+
+def is_completed_run(run_dir: Path, resolved: dict[str, Any]) -> bool:
+    """``run_dir`` holds a completed run of exactly the ``resolved`` scenario (``to_dict()``)."""
+    try:
+        summary = json.loads((Path(run_dir) / SUMMARY).read_text())
+        if summary.get("program") != PROGRAM or summary.get("status") != "completed":
+            return False
+        return Scenario.from_toml(Path(run_dir) / SCENARIO).to_dict() == resolved
+    except Exception:
+        return False
 
 
 def is_run_folder(path: Path) -> bool:

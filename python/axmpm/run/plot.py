@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import RunError
+from ..plotting import pyplot, save_figure
 from .output import HISTORY, load_run
 
 __all__ = ["NAME", "add_parser", "main", "energy_columns", "history_figure", "plot_history"]
@@ -52,8 +53,6 @@ def history_figure(history: Mapping[str, NDArray[np.float64]], columns: Sequence
                    negate_x: bool = False, negate_y: bool = False, title: str = "") -> Any:
     """A matplotlib figure with one line per column of ``history`` (column name → values per row)
     against ``x``, each negated when asked. Returns the figure (not saved)."""
-    from ..study.plotting import pyplot
-
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.5))
     sign_x, sign_y = (-1.0 if negate_x else 1.0), (-1.0 if negate_y else 1.0)
@@ -80,8 +79,6 @@ def plot_history(run_dir: str | Path, columns: Sequence[str] = (), x: str = "tim
     """Draw ``columns`` (default: :func:`energy_columns`) of ``run_dir``'s history.csv against
     ``x`` into ``out`` (default ``RUN/plot.png``); return the PNG's path. ``RunError`` names an
     unknown column and lists the run's columns."""
-    from ..study.plotting import save_figure
-
     run = load_run(run_dir)
     history = run.history
     if not history:

@@ -12,7 +12,9 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .runner import THREADS_HELP, thread_count
+from ..errors import EXIT_OK
+from .output import SUMMARY, read_checkpoint
+from .runner import THREADS_HELP, report_run, resume, thread_count
 
 NAME = "resume"
 
@@ -27,10 +29,6 @@ def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..cli import EXIT_OK, _report_run
-    from .output import SUMMARY, read_checkpoint
-    from .runner import resume
-
     if _status(args.run_dir / SUMMARY) == "completed":
         print(f"nothing to resume: {args.run_dir} is a completed run")
         return EXIT_OK
@@ -40,7 +38,7 @@ def main(args: argparse.Namespace) -> int:
     except (OSError, ValueError):
         pass  # resume() reports the problem
     summary = resume(args.run_dir, threads=args.threads, progress=args.progress)
-    return _report_run(summary, args.run_dir)
+    return report_run(summary, args.run_dir)
 
 
 def _status(path: Path) -> str | None:
