@@ -40,10 +40,10 @@ def test_the_plotted_lines_are_the_csv_columns(run_dir: Path) -> None:
     assert len(data["time"]) >= 4
     fig = history_figure(axmpm.load_run(run_dir).history, ["bottom.force_y", "kinetic_energy"])
     lines = lines_by_label(fig)
-    assert sorted(lines) == ["bottom.force_y", "kinetic_energy"]
-    for column, (x, y) in lines.items():
+    assert sorted(lines) == ["bottom.force_y (N)", "kinetic_energy (J)"]
+    for label, (x, y) in lines.items():
         np.testing.assert_array_equal(x, data["time"])
-        np.testing.assert_array_equal(y, data[column])
+        np.testing.assert_array_equal(y, data[label.split()[0]])
     assert fig.axes[0].get_xlabel() == "time (s)"
 
 
@@ -55,7 +55,10 @@ def test_against_another_column_negated(run_dir: Path) -> None:
     np.testing.assert_array_equal(x, -data["gravity_work"])
     np.testing.assert_array_equal(y, -data["bottom.force_y"])
     assert np.any(data["bottom.force_y"] != 0.0)  # the sign flip is seen
-    assert fig.axes[0].get_xlabel() == "−gravity_work"
+    assert fig.axes[0].get_xlabel() == "−gravity_work (J)"
+    assert fig.axes[0].get_ylabel() == "−bottom.force_y (N)"
+    per_metre = history_figure(axmpm.load_run(run_dir).history, ["bottom.force_y"], per_metre=True)
+    assert per_metre.axes[0].get_ylabel() == "bottom.force_y (N/m)"
 
 
 def test_default_columns_are_the_energies(run_dir: Path) -> None:

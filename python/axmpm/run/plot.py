@@ -50,18 +50,20 @@ def _check_columns(history: Mapping[str, Any], wanted: Sequence[str], where: Pat
 
 
 def history_figure(history: Mapping[str, NDArray[np.float64]], columns: Sequence[str], x: str = "time",
-                   negate_x: bool = False, negate_y: bool = False, title: str = "") -> Any:
+                   negate_x: bool = False, negate_y: bool = False, title: str = "",
+                   per_metre: bool = False) -> Any:
     """A matplotlib figure with one line per column of ``history`` (column name → values per row)
-    against ``x``, each negated when asked. Returns the figure (not saved)."""
+    against ``x``, each negated when asked; ``per_metre``: forces and energies are per metre of
+    thickness (plane strain). Returns the figure (not saved)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 4.5))
     sign_x, sign_y = (-1.0 if negate_x else 1.0), (-1.0 if negate_y else 1.0)
     abscissa = sign_x * np.asarray(history[x], dtype=float)
     for column in columns:
-        ax.plot(abscissa, sign_y * np.asarray(history[column], dtype=float), marker=".", label=_label(column, negate_y))
-    ax.set_xlabel(_label(x, negate_x) + (" (s)" if x == "time" else ""))
+        ax.plot(abscissa, sign_y * np.asarray(history[column], dtype=float), marker=".", label=_label(column, negate_y, per_metre))
+    ax.set_xlabel(_label(x, negate_x, per_metre))
     if len(columns) == 1:
-        ax.set_ylabel(_label(columns[0], negate_y))
+        ax.set_ylabel(_label(columns[0], negate_y, per_metre))
     else:
         ax.legend()
     ax.grid(alpha=0.3)
@@ -70,8 +72,24 @@ def history_figure(history: Mapping[str, NDArray[np.float64]], columns: Sequence
     return fig
 
 
-def _label(column: str, negated: bool) -> str:
-    return f"−{column}" if negated else column
+def _label(column: str, negated: bool, per_metre: bool) -> str:
+    """The column's name (with a minus sign when negated) and its SI unit when known."""
+    unit = _unit(column, per_metre)
+    return ("−" if negated else "") + column + (f" ({unit})" if unit else "")
+
+
+def _unit(column: str, per_metre: bool) -> str:
+    per = "/m" if per_metre else ""
+    quantity = column.rsplit(".", 1)[-1]
+    if quantity in ("time", "dt", "wall_seconds"):
+        return "s"
+    if quantity.rsplit("_", 1)[0] in ("force", "base_force", "shaft_force"):
+        return "N" + per
+    if quantity.rsplit("_", 1)[0] == "displacement":
+        return "m"
+    if quantity.endswith(("_energy", "_work", "_dissipation")) or quantity == "energy_residual":
+        return "J" + per
+    return ""
 
 
 def plot_history(run_dir: str | Path, columns: Sequence[str] = (), x: str = "time", negate_x: bool = False,
@@ -85,7 +103,9 @@ def plot_history(run_dir: str | Path, columns: Sequence[str] = (), x: str = "tim
         raise RunError(f"{run.path}: no {HISTORY} rows to plot")
     columns = list(columns) or energy_columns(list(history))
     _check_columns(history, [*columns, x], run.path / HISTORY)
-    fig = history_figure(history, columns, x=x, negate_x=negate_x, negate_y=negate_y, title=run.path.name)
+    plane_strain = run.scenario.simulation.formulation == "plane_strain"
+    fig = history_figure(history, columns, x=x, negate_x=negate_x, negate_y=negate_y, title=run.path.name,
+                         per_metre=plane_strain)
     return save_figure(fig, Path(out) if out is not None else run.path / "plot.png")
 
 
