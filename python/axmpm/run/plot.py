@@ -103,7 +103,7 @@ def plot_history(run_dir: str | Path, columns: Sequence[str] = (), x: str = "tim
         raise RunError(f"{run.path}: no {HISTORY} rows to plot")
     columns = list(columns) or energy_columns(list(history))
     _check_columns(history, [*columns, x], run.path / HISTORY)
-    plane_strain = run.scenario.simulation.formulation == "plane_strain"
+    plane_strain = run.summary.get("formulation") == "plane_strain"  # not the scenario: older runs plot too
     fig = history_figure(history, columns, x=x, negate_x=negate_x, negate_y=negate_y, title=run.path.name,
                          per_metre=plane_strain)
     return save_figure(fig, Path(out) if out is not None else run.path / "plot.png")
