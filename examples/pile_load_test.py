@@ -77,7 +77,7 @@ def main(argv: list[str]) -> int:
     run_dir = Path(argv[1]) if len(argv) > 1 else Path("runs/pile")
     figure = Path(argv[2]) if len(argv) > 2 else run_dir / "load_settlement.png"
     curve = load_settlement(run_dir)
-    from axmpm.study.plotting import pyplot, save_figure
+    from axmpm.plotting import pyplot, save_figure
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.5))

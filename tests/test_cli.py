@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
 import signal
 import subprocess
 import sys
@@ -21,6 +22,27 @@ def assert_input_error(result: subprocess.CompletedProcess[str], *keys: str) -> 
     assert "Traceback" not in result.stderr
     for key in keys:
         assert f"error: {key}: " in result.stderr, result.stderr
+
+
+# --------------------------------------------------------------------------- version
+
+
+def test_version_names_the_package_the_engine_and_its_instruction_set() -> None:
+    from importlib.metadata import version
+
+    from axmpm import _core
+
+    result = run_cli("--version")
+    assert result.returncode == 0, result.stderr
+    assert result.stdout == f"axmpm {version('axmpm')} (engine {_core.__version__}, {_core.instruction_set()})\n"
+    assert _core.instruction_set() in ("avx2", "baseline")
+
+
+def test_version_reports_the_baseline_when_asked_for() -> None:
+    env = dict(os.environ, AXMPM_ISA="baseline")
+    result = subprocess.run([sys.executable, "-m", "axmpm.cli", "--version"], capture_output=True, text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.rstrip().endswith(", baseline)")
 
 
 # --------------------------------------------------------------------------- check / schema
@@ -52,6 +74,34 @@ def test_check_prints_resolved(tiny_toml: Path) -> None:
     result = run_cli("check", tiny_toml, "--print", "--set", "simulation.damping=0.2")
     assert result.returncode == 0
     assert "damping = 0.2" in result.stdout and "flip_fraction = 0.99" in result.stdout
+
+
+def test_check_says_which_thread_count_its_estimate_assumes(tiny_toml: Path) -> None:
+    result = run_cli("check", tiny_toml, "--threads", "1")
+    assert result.returncode == 0, result.stderr
+    assert "run time with 1 thread (--threads 1, as `axmpm run --threads 1`): about " in result.stdout
+    result = run_cli("check", tiny_toml)
+    assert result.returncode == 0, result.stderr
+    assert "thread (the default of `axmpm run`: every core the problem can use" in result.stdout
+
+
+def test_the_estimate_names_the_threads_it_was_measured_with() -> None:
+    from axmpm.run.estimate import RunEstimate
+
+    default = RunEstimate(1e-4, 1000, 20_000, threads=2, measured_steps=10, throughput=1e6, wall_seconds=20.0)
+    assert "run time with 2 threads (the default of `axmpm run`" in default.describe()
+    assert "about 20 s of run time" in default.describe()
+    asked = RunEstimate(1e-4, 1000, 20_000, threads=3, measured_steps=10, throughput=1e6, wall_seconds=20.0,
+                        requested_threads=3)
+    assert "run time with 3 threads (--threads 3, as `axmpm run --threads 3`)" in asked.describe()
+
+
+@pytest.mark.parametrize("command", ["check", "run"])
+def test_a_negative_thread_count_is_refused(command: str, tiny_toml: Path, tmp_path: Path) -> None:
+    out = ["--out", str(tmp_path / "out")] if command == "run" else []
+    result = run_cli(command, tiny_toml, *out, "--threads", "-1")
+    assert result.returncode == 2 and "Traceback" not in result.stderr
+    assert "argument --threads: must be an integer >= 0 (got -1)" in result.stderr
 
 
 def test_check_missing_file(tmp_path: Path) -> None:

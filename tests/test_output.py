@@ -128,3 +128,38 @@ def test_import_is_light() -> None:
     code = "import sys, axmpm; print(sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'pyevtk', 'tqdm') or m == 'axmpm._core'))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_help_documents_what_load_run_returns_and_every_frame_attribute() -> None:
+    import dataclasses
+    import pydoc
+
+    from axmpm.run.output import Frame, FrameData, Run
+
+    text = pydoc.render_doc(axmpm.load_run, renderer=pydoc.plaintext)
+    assert "return a\n    :class:`Run`" in text and "rigid_bodies" in text and "state_names" in text
+    for cls in (FrameData, Frame):
+        doc = cls.__doc__ or ""
+        missing = [f.name for f in dataclasses.fields(FrameData) if f"``{f.name}``" not in doc and f"{f.name}:" not in doc]
+        assert not missing, f"{cls.__name__} does not document {missing}"
+    for name in ("path", "summary", "frames", "scenario", "history", "reactions", "rigid_bodies"):
+        assert f"{name}:" in (Run.__doc__ or ""), name
+
+
+def test_state_of_names_the_column_and_lists_the_names() -> None:
+    from axmpm.run.output import FrameData
+
+    n = 3
+    frame = FrameData(time=0.0, steps=0, x=np.zeros((n, 2)), v=np.zeros((n, 2)), stress=np.zeros((n, 4)),
+                      X0=np.zeros((n, 2)), volume=np.ones(n), volume0=np.ones(n), mass=np.ones(n),
+                      material_id=np.zeros(n, dtype=np.int32), F=np.zeros((n, 5)),
+                      state=np.array([[1.0, 10.0], [2.0, 20.0], [3.0, 30.0]]),
+                      state_names=["plastic_shear_strain", "plastic_work"])
+    np.testing.assert_array_equal(frame.state_of("plastic_work"), [10.0, 20.0, 30.0])
+    with pytest.raises(KeyError, match="this run's are: plastic_shear_strain, plastic_work"):
+        frame.state_of("plastic_strain")
+
+
+def test_a_frame_on_disk_lists_its_attributes(tiny_run: Path) -> None:
+    frame = axmpm.load_run(tiny_run).last
+    assert {"stress", "state", "state_names", "material_id", "displacement", "state_of"} <= set(dir(frame))

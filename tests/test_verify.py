@@ -178,7 +178,7 @@ def test_main_exits_one_when_a_check_fails(tmp_path: Path, monkeypatch: pytest.M
 
 
 def test_results_do_not_depend_on_jobs(tmp_path: Path) -> None:
-    from axmpm.study.parallel import process_pool
+    from axmpm.run.parallel import process_pool
 
     specs = [verify.run_spec("cpdi2", "tension", "plane_strain", 8), verify.run_spec("linear", "tension", "plane_strain", 8),
              verify.run_spec("ugimp", "compression", "axisymmetric_axis", 8)]

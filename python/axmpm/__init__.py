@@ -5,11 +5,17 @@ from .errors import RunError, ScenarioError
 from .scenario import Scenario, apply_overrides
 
 __all__ = ["Scenario", "ScenarioError", "RunError", "apply_overrides", "run", "load_run", "material_point"]
-__version__ = "0.1.0"
 
 
 def __getattr__(name: str):
     # Lazy: importing axmpm must not need the compiled engine or matplotlib.
+    if name == "__version__":  # the installed distribution's, from pyproject.toml
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            return version("axmpm")
+        except PackageNotFoundError:  # imported from a source tree that was never installed
+            return "unknown"
     if name == "run":  # the package axmpm.run, callable as axmpm.run(scenario, out, ...)
         import importlib
 

@@ -14,10 +14,15 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import platform
 import time
 from typing import Any
+
+from .catalogue import formulations as engine_formulations, interpolation_schemes
+from .engine import core
+from .errors import RunError
+from .run.parallel import available_cores
+from .scenario import Scenario
 
 NAME = "bench"
 
@@ -29,15 +34,11 @@ MATERIALS = ("mohr_coulomb", "linear_elastic")
 
 def schemes() -> tuple[str, ...]:
     """Every interpolation scheme of the engine (axmpm.catalogue)."""
-    from .catalogue import interpolation_schemes
-
     return interpolation_schemes()
 
 
 def formulations() -> tuple[str, ...]:
     """Every formulation of the engine, axisymmetric first."""
-    from .catalogue import formulations as engine_formulations
-
     return tuple(sorted(engine_formulations()))
 
 
@@ -86,11 +87,8 @@ def bench_scenario(formulation: str, scheme: str, cell_size: float = 0.0005,
 def measure(formulation: str, scheme: str, threads: int, steps: int, warmup: int,
             cell_size: float = 0.0005, material: str = "mohr_coulomb") -> dict[str, Any]:
     """One measurement: build, take ``warmup`` steps, time ``steps`` steps."""
-    from . import _core
-    from .scenario import Scenario
-
     scenario = Scenario.from_dict(bench_scenario(formulation, scheme, cell_size, material))
-    sim = _core.Simulation(scenario.engine_json(), threads)
+    sim = core().Simulation(scenario.engine_json(), threads)
     sim.advance(1e9, warmup)
     before = sim.timings()
     start = time.perf_counter()
@@ -124,7 +122,6 @@ def machine() -> dict[str, Any]:
                     break
     except OSError:
         pass
-    from .study.parallel import available_cores
 
     return {"cpu": cpu, "cores": available_cores(), "python": platform.python_version(),
             "system": platform.system()}
@@ -147,8 +144,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def _validated_list(text: str, allowed: tuple[str, ...], name: str) -> list[str]:
-    from .errors import RunError
-
     items = [t.strip() for t in text.split(",") if t.strip()]
     bad = [t for t in items if t not in allowed]
     if bad or not items:
@@ -157,13 +152,10 @@ def _validated_list(text: str, allowed: tuple[str, ...], name: str) -> list[str]
 
 
 def main(args: argparse.Namespace) -> int:
-    from .errors import RunError
-
     all_schemes, all_formulations = schemes(), formulations()
     chosen_schemes = _validated_list(args.schemes or ",".join(all_schemes), all_schemes, "schemes")
     chosen_formulations = _validated_list(args.formulations or ",".join(all_formulations), all_formulations,
                                           "formulations")
-    from .study.parallel import available_cores
 
     cores = available_cores()
     threads = args.threads or sorted({1, cores})

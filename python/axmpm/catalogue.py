@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+from .engine import core
+
 __all__ = ["catalogue", "formulations", "interpolation_schemes", "material_models", "region_shapes", "one_of"]
 
 KEYS = ("formulations", "interpolation_schemes", "material_models", "region_shapes")
@@ -19,11 +21,7 @@ KEYS = ("formulations", "interpolation_schemes", "material_models", "region_shap
 def catalogue() -> dict[str, tuple[str, ...]]:
     """``{"formulations", "interpolation_schemes", "material_models", "region_shapes"}`` → names,
     in the engine's order."""
-    try:
-        from . import _core  # type: ignore[attr-defined]
-    except ImportError as exc:  # pragma: no cover - depends on the build
-        raise ImportError(f"the compiled engine axmpm._core is not available ({exc}); run `make install`") from None
-    lists = _core.catalogue()
+    lists = core().catalogue()
     return {key: tuple(lists[key]) for key in KEYS}
 
 

@@ -13,12 +13,37 @@ import argparse
 import sys
 from pathlib import Path
 
-from .errors import RunError, ScenarioError
+from . import __version__
+from .cases.column_1d.demo import run_demo
+from .cases.column_collapse.demo import model_description, run_collapse_demo
+from .engine import core
+from .errors import EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, RunError, ScenarioError
+from .run import run
+from .run.estimate import estimate_run
+from .run.runner import THREADS_DEFAULT, THREADS_HELP, report_run, thread_count
+from .scenario import Scenario, schema_json
 
-EXIT_OK = 0
-EXIT_INPUT = 2
-EXIT_FAILED = 3
-EXIT_INTERRUPTED = 130
+
+def version_text() -> str:
+    """``axmpm VERSION (engine VERSION, INSTRUCTION_SET)``: the installed package's version and
+    the compiled engine's, with the instruction set its loops run with on this CPU."""
+    try:
+        engine = core()
+    except ImportError:
+        return f"axmpm {__version__} (engine not built: run `make install`)"
+    return f"axmpm {__version__} (engine {engine.__version__}, {engine.instruction_set()})"
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: like argparse's, but the engine is loaded only when asked."""
+
+    def __init__(self, option_strings: list[str], dest: str = argparse.SUPPRESS, **kwargs: object):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS,
+                         help="print the version of axmpm and of its engine, then exit")
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: object, **kwargs: object) -> None:
+        print(version_text())
+        parser.exit()
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -27,6 +52,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Material point method for large-deformation geomechanics "
         "(plane strain and axisymmetric).",
     )
+    parser.add_argument("--version", action=_VersionAction)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     set_help = "override a scenario value, e.g. --set materials.sand.density=1600 (repeatable)"
@@ -36,7 +62,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--out", type=Path, required=True, help="output folder")
     p.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE", help=set_help)
     p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
-    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0, help=THREADS_HELP)
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="show a progress bar (default: when stderr is a terminal)")
 
@@ -47,7 +73,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="print the resolved scenario (every default filled in)")
     p.add_argument("--estimate", action=argparse.BooleanOptionalAction, default=True,
                    help="build the run and time a few steps to estimate the run time (default: on)")
-    p.add_argument("--threads", type=int, default=0, help="worker threads for the estimate, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0,
+                   help=f"engine threads the run-time estimate assumes, as `axmpm run --threads`; {THREADS_DEFAULT}")
 
     sub.add_parser("schema", help="print the JSON Schema of scenario files")
 
@@ -57,7 +84,7 @@ def _parser() -> argparse.ArgumentParser:
                    help="the 1D column vs its exact solution (axisymmetric, linear MPM) instead")
     p.add_argument("--out", type=Path, default=Path("runs/demo"), help="output folder (default runs/demo)")
     p.add_argument("--overwrite", action="store_true", help="replace a non-empty folder that is not an axmpm run")
-    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0, help=THREADS_HELP)
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None)
 
     for module in _command_modules():
@@ -70,6 +97,7 @@ def _parser() -> argparse.ArgumentParser:
 #: Adding a command = one new module + one line here.
 COMMAND_MODULES: tuple[str, ...] = (
     "axmpm.run.resume",
+    "axmpm.run.plot",
     "axmpm.cases.verify",
     "axmpm.bench",
     "axmpm.study.sweep",
@@ -86,8 +114,6 @@ def _command_modules() -> list:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from .scenario import Scenario
-
     scenario = Scenario.from_toml(args.scenario, args.overrides)
     if args.print_resolved:
         print(scenario.to_toml(), end="")
@@ -97,52 +123,28 @@ def _cmd_check(args: argparse.Namespace) -> int:
         print(f"ok: {args.scenario} is valid: {sim.formulation}, {sim.shape_function}, "
               f"{scenario.particle_count()} particles, grid {nx} x {ny} cells, end_time {sim.end_time:g} s")
         if args.estimate:
-            from .run.estimate import estimate_run
-
             print(estimate_run(scenario, threads=args.threads).describe())
     return EXIT_OK
 
 
-def _report_run(summary: dict, out: Path) -> int:
-    status = summary["status"]
-    print(f"{status}: {summary['steps']} steps to t = {summary['end_time']:.6g} s, "
-          f"{summary['particles']} particles, {summary['wall_seconds']:.2f} s wall, "
-          f"{summary['particle_steps_per_second']:.3g} particle-steps/s; output in {out}")
-    if status == "failed":
-        what = {"output": "writing the output failed", "error": "the run failed"}.get(
-            summary.get("failure", ""), "simulation failed")
-        print(f"error: {what}: {summary['message']}", file=sys.stderr)
-        if summary.get("summary_not_written"):
-            print(f"error: summary.json not updated: {summary['summary_not_written']}", file=sys.stderr)
-        return EXIT_FAILED
-    return EXIT_OK
-
-
 def _cmd_run(args: argparse.Namespace) -> int:
-    from .run import run
-    from .scenario import Scenario
-
     scenario = Scenario.from_toml(args.scenario, args.overrides)
     summary = run(scenario, args.out, threads=args.threads, overwrite=args.overwrite, progress=args.progress)
-    return _report_run(summary, args.out)
+    return report_run(summary, args.out)
 
 
 def _cmd_schema(args: argparse.Namespace) -> int:
-    from .scenario import schema_json
-
     print(schema_json())
     return EXIT_OK
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     if not args.column:
-        from .cases.column_collapse.demo import model_description, run_collapse_demo
-
         print(f"Granular column collapse, a = 0.56, axisymmetric, {model_description()}, "
               "1 mm cells (30 per R_i), cpGIMP, pure FLIP")
         res = run_collapse_demo(args.out, overwrite=args.overwrite, threads=args.threads,
                                 progress=args.progress)
-        code = _report_run(res.summary, res.out)
+        code = report_run(res.summary, res.out)
         if res.case is not None:
             c, lube = res.case, res.case["laws"]["lube2004"]
             print(f"runout (R_inf - R_i)/R_i, deposit one grain (1.15 mm) thick = {c['runout_normalised']:.3f} vs Lube et al. 2004 "
@@ -155,11 +157,9 @@ def _cmd_demo(args: argparse.Namespace) -> int:
             print(f"figures and summary: {res.figure}, {res.report}")
         return code
 
-    from .cases.column_1d.demo import run_demo
-
     print("1D column under self-weight, compression, rho0 g H / E = 0.01, axisymmetric, linear MPM")
     result = run_demo(args.out, overwrite=args.overwrite, threads=args.threads, progress=args.progress)
-    code = _report_run(result.summary, result.out)
+    code = report_run(result.summary, result.out)
     if result.errors is not None:
         e = result.errors
         print(f"vertical stress error vs exact: relative L2 {100 * e.stress_l2:.3f} %, "

@@ -8,6 +8,13 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
+#: Exit codes of the ``axmpm`` command (see :mod:`axmpm.cli`).
+EXIT_OK = 0
+EXIT_FAILED_CHECK = 1  # a verification or validation check failed
+EXIT_INPUT = 2  # bad input: one ``error: key: message`` line per problem, no traceback
+EXIT_FAILED = 3  # the run failed (the engine's reason, or writing its output)
+EXIT_INTERRUPTED = 130  # Ctrl-C
+
 
 class ScenarioError(Exception):
     """One or more problems in a scenario, each as ``(dotted key, message)``.

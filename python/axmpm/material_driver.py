@@ -30,8 +30,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pydantic import TypeAdapter, ValidationError
 
+from .engine import core
 from .errors import ScenarioError
-from .scenario import Material, convert_errors
+from .scenario import Material, MATERIAL_MODELS, convert_errors
 
 __all__ = ["material_point", "MaterialPointResponse", "validate_material", "drained_triaxial",
            "TriaxialResult", "yield_ratio"]
@@ -41,8 +42,6 @@ _ADAPTER: TypeAdapter[Any] = TypeAdapter(Material)
 
 def _strip_tag(key: str) -> str:
     """Drop the discriminator tag pydantic puts in front of a field (``mohr_coulomb.cohesion``)."""
-    from .scenario import MATERIAL_MODELS
-
     for model in MATERIAL_MODELS:
         if key.startswith(model + "."):
             return key[len(model) + 1:]
@@ -105,8 +104,6 @@ def material_point(
     Returns the stress after every step (S, 4) and the state variables (S, k) (e.g.
     ``plastic_shear_strain``, ``plastic_volumetric_strain`` for mohr_coulomb).
     """
-    from . import _core  # type: ignore[attr-defined]
-
     mat = validate_material(material)
     L = np.ascontiguousarray(np.asarray(velocity_gradients, dtype=float))
     if L.ndim == 1 and L.shape[0] == 5:
@@ -121,7 +118,7 @@ def material_point(
     if len(s0) != 4:
         raise ValueError(f"initial_stress must have 4 components [11, 22, 33, 12] (got {len(s0)})")
     material_json = json.dumps(mat.model_dump(mode="json"))
-    stresses, states, names = _core.material_response(material_json, L, float(dt), s0)
+    stresses, states, names = core().material_response(material_json, L, float(dt), s0)
     return MaterialPointResponse(np.asarray(stresses), np.asarray(states), names)
 
 

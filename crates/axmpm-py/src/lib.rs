@@ -258,12 +258,20 @@ fn catalogue(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(d)
 }
 
+/// instruction_set() -> "avx2" or "baseline": the instruction set the step's loops run with on
+/// this CPU (`AXMPM_ISA=baseline` asks for the baseline); both give bit-identical results.
+#[pyfunction]
+fn instruction_set() -> &'static str {
+    axmpm_core::solver::Isa::detect().name()
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add("SimulationFailure", m.py().get_type::<SimulationFailure>())?;
     m.add_function(wrap_pyfunction!(material_response, m)?)?;
     m.add_function(wrap_pyfunction!(catalogue, m)?)?;
+    m.add_function(wrap_pyfunction!(instruction_set, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -29,6 +29,11 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from ..errors import RunError
+from ..run.output import is_completed_run
+from ..run.parallel import available_cores, open_client, process_pool
+from ..run.runner import run as run_scenario
+from ..scenario import Scenario, apply_overrides
 from . import Case, RunSpec, all_cases, default_cases, get
 
 __all__ = ["COMMANDS", "Results", "run_cases", "execute_run", "relative_errors", "select", "add_parser",
@@ -78,8 +83,6 @@ def build_scenario(case: Case, run: RunSpec, overrides: Sequence[str] = ()) -> A
     takes them itself (``handles_overrides = True``, e.g. as builder parameters)."""
     scenario = case.scenario(run)
     if overrides and not getattr(case, "handles_overrides", False):
-        from ..scenario import Scenario, apply_overrides
-
         scenario = Scenario.from_dict(apply_overrides(scenario.to_dict(), list(overrides)),
                                       source=f"{case.name}/{run.name}")
     return scenario
@@ -91,8 +94,6 @@ def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
     a failing simulation or analysis: the record then has status "failed" and the message.
     ``reuse``: a folder that holds a completed run of the very same resolved scenario is not run
     again (resumable sweeps); the record then has ``reused = True``."""
-    from ..run.runner import run as run_scenario
-
     case = get(case_name)
     rel = run_dir_of(case, run)
     run_dir = Path(out) / rel
@@ -132,9 +133,7 @@ def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
 
 def _completed(run_dir: Path, scenario: Any) -> bool:
     """``run_dir`` holds a completed run of exactly ``scenario`` (resolved)."""
-    from ..study.sweep import _same_completed_run
-
-    return _same_completed_run(run_dir, scenario.to_dict())
+    return is_completed_run(run_dir, scenario.to_dict())
 
 
 def _progress_text(case: Case, record: dict[str, Any]) -> str:
@@ -181,8 +180,6 @@ def run_cases(cases: Sequence[Case], options: argparse.Namespace, out: Path, job
     else:
         from concurrent.futures import as_completed
 
-        from ..study.parallel import process_pool
-
         with process_pool(min(jobs, total)) as pool:
             futures = {pool.submit(execute_run, case.name, r, str(out), threads, overrides): case for case, r in order}
             for future in as_completed(futures):
@@ -199,11 +196,9 @@ def _resumable(case: Case, options: argparse.Namespace) -> bool:
 def _run_on_dask(order: Sequence[tuple[Case, RunSpec]], options: argparse.Namespace, out: Path, jobs: int,
                  threads: int, overrides: Sequence[str], finished: Any) -> None:
     """Resumable sweeps (``axmpm validate --case column_collapse --aspect-ratios ...``): every run is
-    one Dask task (:func:`axmpm.study.sweep.open_client`: ``--scheduler ADDRESS`` or a local
+    one Dask task (:func:`axmpm.run.parallel.open_client`: ``--scheduler ADDRESS`` or a local
     cluster of ``--workers`` single-threaded processes); a completed run of the same scenario is
     reused, a failing or crashing run is a failed record and the others go on."""
-    from ..study.sweep import open_client
-
     todo = []
     for case, r in order:  # completed runs: no cluster needed
         record = execute_run(case.name, r, out, threads, overrides, reuse=True) if _completed_quick(case, r, out, overrides) else None
@@ -244,8 +239,6 @@ def _completed_quick(case: Case, run: RunSpec, out: Path, overrides: Sequence[st
 
 def select(kind: str, names: Sequence[str] | None) -> list[Case]:
     """The cases ``--case`` names (each may be comma-separated), or the default ones of ``kind``."""
-    from ..errors import RunError
-
     if not names:
         cases = default_cases(kind)
         if not cases:
@@ -263,8 +256,6 @@ def _prepare(out: Path, results_file: str, command: str, cases: Sequence[Case], 
              keep: Sequence[str] = ()) -> None:
     """Refuse a file or a non-empty folder that is not an output of this command (unless
     ``overwrite``: it is then emptied); clear the run folders of the selected cases."""
-    from ..errors import RunError
-
     if out.exists() and not out.is_dir():
         raise RunError(f"--out {out} exists and is not a folder")
     if out.is_dir() and any(out.iterdir()):
@@ -316,8 +307,6 @@ def verify_or_validate(kind: str, cases: Sequence[Case], options: argparse.Names
                        log: Any = sys.stdout) -> dict[str, Any]:
     """Run ``cases`` (all of ``kind``) into ``out``; write the results JSON and ``report.md``;
     return the JSON data (``passed`` true when every check passes)."""
-    from ..study.parallel import available_cores
-
     command, results_file, _, _ = COMMANDS[kind]
     out = Path(out)
     _prepare(out, results_file, command, cases, overwrite,

@@ -41,8 +41,12 @@ import math
 from pathlib import Path
 from typing import Any
 
+from ..errors import RunError
+from ..plotting import pyplot, save_figure, scheme_style
+from ..report import DASH, fmt, pct
+from ..run.output import load_run
+from ..scenario import Scenario
 from . import RunSpec, register
-from ..study.report import DASH, fmt, pct
 
 SCHEMES: tuple[str, ...] = ("linear", "ugimp", "cpgimp", "cpdi2")
 #: Cells per initial radius R0/h of the Simo bar (multiples of 8: L0 = 10.125 R0 on a grid line).
@@ -205,7 +209,6 @@ def taylor_scenario(scheme: str, cells_per_radius: int, formulation: str = "axis
     }
     if as_dict:
         return data
-    from ..scenario import Scenario
 
     return Scenario.from_dict(data, source=f"taylor_bar {run_name(scheme, cells_per_radius, formulation, geometry)}")
 
@@ -261,8 +264,6 @@ def bar_metrics(frame: Any, cell_size: float, half_width: float, formulation: st
 
 def run_metrics(run_dir: Path) -> dict[str, Any]:
     """:func:`bar_metrics` of the last frame of a run folder (None values if it has no frame)."""
-    from ..run.output import load_run
-
     run = load_run(run_dir)
     sc = run.scenario
     body = sc.bodies[0]
@@ -362,8 +363,6 @@ def results_table(results: list[dict[str, Any]]) -> str:
 
 
 def _last_frame(base: Path, record: dict[str, Any]) -> Any:
-    from ..run.output import load_run
-
     return load_run(base / record["run_dir"])
 
 
@@ -393,8 +392,6 @@ def _profile(run: Any) -> tuple[Any, Any]:
 def plot_shapes(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
     """Final outer profiles of all schemes at the finest Simo mesh over each other (mm), the
     reference R_f and L_f marked."""
-    from ..study.plotting import pyplot, save_figure, scheme_style
-
     finest = [r for r in (_finest(results, s) for s in SCHEMES) if r is not None and r.get("status") == "completed"]
     if not finest:
         return False
@@ -426,8 +423,6 @@ def plot_shapes(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
 def plot_plastic_strain(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
     """ε̄p on the particles of the finest cpGIMP and CPDI2 runs and of the plane-strain strip."""
     import numpy as np
-
-    from ..study.plotting import pyplot, save_figure
 
     panels = [r for r in (_finest(results, "cpgimp"), _finest(results, "cpdi2")) if r is not None]
     panels += [r for r in results if r.get("formulation") == "plane_strain"]
@@ -466,8 +461,6 @@ def plot_plastic_strain(results: list[dict[str, Any]], base: Path, path: Path) -
 
 def plot_convergence(results: list[dict[str, Any]], path: Path) -> bool:
     """R_f and L_f against R0/h per scheme, with the reference and the target bands."""
-    from ..study.plotting import pyplot, save_figure, scheme_style
-
     axi = [r for r in results if r.get("formulation") == "axisymmetric" and r.get("geometry") == "simo1992"
            and r.get("status") == "completed"]
     if not axi:
@@ -581,8 +574,6 @@ At the finest mesh:
 
 
 def _parse_list(text: str | None, kind: type, default: tuple[Any, ...], what: str) -> tuple[Any, ...]:
-    from ..errors import RunError
-
     if not text:
         return default
     try:
@@ -607,8 +598,6 @@ class TaylorBar:
                                  f"(default {','.join(map(str, MESHES))})")
 
     def runs(self, options: argparse.Namespace) -> list[RunSpec]:
-        from ..errors import RunError
-
         schemes = _parse_list(getattr(options, "taylor_schemes", None), str, SCHEMES, "--taylor-schemes")
         unknown = [s for s in schemes if s not in SCHEMES]
         if unknown:

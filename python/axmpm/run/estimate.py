@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..errors import RunError
+from .runner import _engine_class
 
 __all__ = ["RunEstimate", "estimate_run", "format_duration"]
 
@@ -34,27 +35,32 @@ class RunEstimate:
     time_step: float           # s, the engine's (CFL or fixed)
     steps: int                 # to end_time
     particles: int
-    threads: int
+    threads: int               # threads the engine ran the timed steps with
     measured_steps: int        # steps timed
     throughput: float          # particle-steps per second measured
     wall_seconds: float        # estimated run time (engine only: output writing not included)
+    requested_threads: int = 0  # what was asked for: 0 = all cores
 
     @property
     def particle_steps(self) -> float:
         return float(self.steps) * self.particles
 
     def describe(self) -> str:
+        """Two lines: the cost in particle-steps, then the run time and the thread count it assumes."""
+        plural = "s" if self.threads != 1 else ""
+        which = ("the default of `axmpm run`: every core the problem can use, one per 10,000 particles; "
+                 "--threads N estimates for N" if self.requested_threads <= 0
+                 else f"--threads {self.requested_threads}, as `axmpm run --threads {self.requested_threads}`")
         return (f"time step {self.time_step:.4g} s, {self.steps:,} steps to end_time, {self.particles:,} particles: "
-                f"{self.particle_steps:.3g} particle-steps; measured {self.throughput:.3g} particle-steps/s "
-                f"({self.measured_steps} steps, {self.threads} thread{'s' if self.threads != 1 else ''}): "
-                f"about {format_duration(self.wall_seconds)} of run time (output writing not included)")
+                f"{self.particle_steps:.3g} particle-steps\n"
+                f"run time with {self.threads} thread{plural} ({which}): about {format_duration(self.wall_seconds)} "
+                f"of run time, from {self.throughput:.3g} particle-steps/s measured over {self.measured_steps} steps "
+                f"(output writing not included)")
 
 
 def estimate_run(scenario: Any, threads: int = 0) -> RunEstimate:
     """Builds the engine for ``scenario``, reads its time step and times a few steps (at most
     about :data:`MEASURE_SECONDS` of wall time)."""
-    from .runner import _engine_class
-
     simulation, failure = _engine_class()
     try:
         sim = simulation(scenario.engine_json(), int(threads))
@@ -74,4 +80,4 @@ def estimate_run(scenario: Any, threads: int = 0) -> RunEstimate:
     elapsed = max(time.perf_counter() - started, 1e-9)
     throughput = taken * particles / elapsed if taken else float("nan")
     wall = steps * particles / throughput if taken else float("nan")
-    return RunEstimate(dt, steps, particles, int(sim.threads), taken, throughput, wall)
+    return RunEstimate(dt, steps, particles, int(sim.threads), taken, throughput, wall, int(threads))

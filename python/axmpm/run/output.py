@@ -35,7 +35,7 @@ import io
 import json
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import cached_property
 from pathlib import Path
 from typing import Any
@@ -51,6 +51,7 @@ __all__ = [
     "Run",
     "load_run",
     "is_run_folder",
+    "is_completed_run",
     "stress_names",
     "write_frame",
     "write_pvd",
@@ -93,7 +94,34 @@ F_NAMES = ["F11", "F12", "F21", "F22", "F33"]
 
 @dataclass
 class FrameData:
-    """One snapshot of all particles (SI units, tension positive)."""
+    """One snapshot of all particles at an output time (SI units, stress tension positive).
+
+    Every array has one row per particle, in the same particle order in every frame of a run,
+    so rows can be compared between frames. The two in-plane directions are (x, y) in plane
+    strain and (r, z) in axisymmetry, y/z pointing up.
+
+    Attributes:
+        time: the time of the frame (s).
+        steps: the steps taken up to it.
+        x: (N, 2) current positions (m).
+        v: (N, 2) velocities (m/s).
+        stress: (N, 4) Cauchy stress (Pa, tension positive) in the order of
+            :func:`stress_names`: [xx, yy, zz, xy] in plane strain, [rr, zz, θθ, rz] in
+            axisymmetry.
+        X0: (N, 2) initial positions (m); :attr:`displacement` is ``x - X0``.
+        volume: (N,) current volume (m³ per metre in plane strain, per radian in axisymmetry).
+        volume0: (N,) initial volume (same units).
+        mass: (N,) mass (kg per metre in plane strain, per radian in axisymmetry).
+        material_id: (N,) each particle's material, an index into the run's material names
+            sorted alphabetically (``run.scenario.material_names()``).
+        F: (N, 5) deformation gradient [F11, F12, F21, F22, F33] (F33: out of plane, the hoop
+            stretch r/R in axisymmetry).
+        state: (N, S) the materials' internal variables, one column per name in
+            ``state_names`` (0 where a particle's material has no such variable).
+        state_names: the S column names of ``state``: the union over the run's materials of
+            their variables, e.g. ``plastic_shear_strain``, ``plastic_work`` (J per m³ of initial
+            volume).
+    """
 
     time: float
     steps: int
@@ -111,7 +139,14 @@ class FrameData:
 
     @property
     def displacement(self) -> NDArray[np.float64]:
+        """(N, 2) displacement ``x - X0`` (m)."""
         return self.x - self.X0
+
+    def state_of(self, name: str) -> NDArray[np.float64]:
+        """(N,) the column of ``state`` called ``name`` (``KeyError`` listing the names if absent)."""
+        if name not in self.state_names:
+            raise KeyError(f"no state variable {name!r}; this run's are: {', '.join(self.state_names)}")
+        return self.state[:, self.state_names.index(name)]
 
     @classmethod
     def from_simulation(cls, sim: Any) -> "FrameData":
@@ -453,6 +488,17 @@ def remove_temporary_files(run_dir: Path) -> None:
 # --------------------------------------------------------------------------- reading
 
 
+def is_completed_run(run_dir: Path, resolved: dict[str, Any]) -> bool:
+    """``run_dir`` holds a completed run of exactly the ``resolved`` scenario (``to_dict()``)."""
+    try:
+        summary = json.loads((Path(run_dir) / SUMMARY).read_text())
+        if summary.get("program") != PROGRAM or summary.get("status") != "completed":
+            return False
+        return Scenario.from_toml(Path(run_dir) / SCENARIO).to_dict() == resolved
+    except Exception:
+        return False
+
+
 def is_run_folder(path: Path) -> bool:
     """True when ``path`` holds a ``summary.json`` written by axmpm."""
     try:
@@ -463,10 +509,19 @@ def is_run_folder(path: Path) -> bool:
 
 
 class Frame:
-    """A frame of a run on disk; arrays are read from its .npz on first access."""
+    """A frame of a run on disk (``frames/frame_NNNNNN.npz``), read on first access.
+
+    It has the attributes of :class:`FrameData`: ``time``, ``steps``, ``x``, ``v``,
+    ``stress``, ``X0``, ``displacement``, ``volume``, ``volume0``, ``mass``, ``material_id``,
+    ``F``, ``state``, ``state_names`` and :meth:`~FrameData.state_of` (``help(FrameData)``
+    gives their shapes and units), and ``path``, the .npz file.
+    """
 
     def __init__(self, path: Path):
         self.path = Path(path)
+
+    def __dir__(self) -> list[str]:
+        return sorted({*super().__dir__(), *(f.name for f in fields(FrameData)), "displacement", "state_of"})
 
     @cached_property
     def _data(self) -> FrameData:
@@ -488,8 +543,20 @@ class Frame:
 
 
 class Run:
-    """A run folder read back: ``frames``, ``summary``, ``scenario``, ``history`` (columns of
-    history.csv), ``reactions`` (constraint name → forces at every history row)."""
+    """A run folder read back (see :func:`load_run`).
+
+    Attributes:
+        path: the run folder.
+        summary: summary.json as a dict (``status``: completed, failed, interrupted or running;
+            ``steps``, ``end_time``, ``wall_seconds``, the energies, ...).
+        frames: the :class:`Frame` of every output time, in time order (``last``: the final
+            one; ``times``: their times, s).
+        scenario: the resolved :class:`~axmpm.scenario.Scenario` the run was made with.
+        history: history.csv as column name → (T,) array, one value per row (``time``,
+            ``steps``, ``dt``, the energies, ``NAME.force_x``/``_y``, ...).
+        reactions: per constraint that reports a reaction, its force at every history row.
+        rigid_bodies: per rigid body, its displacement and forces at every history row.
+    """
 
     def __init__(self, path: str | Path):
         self.path = Path(path)
@@ -500,10 +567,12 @@ class Run:
 
     @cached_property
     def scenario(self) -> Scenario:
+        """The resolved scenario of the run (its scenario.toml, every default filled in)."""
         return Scenario.from_toml(self.path / SCENARIO)
 
     @cached_property
     def history(self) -> dict[str, NDArray[np.float64]]:
+        """history.csv as column name → (T,) array, one value per row (empty if there is none)."""
         path = self.path / HISTORY
         if not path.exists():
             return {}
@@ -540,10 +609,12 @@ class Run:
 
     @property
     def times(self) -> NDArray[np.float64]:
+        """The time of every frame (s)."""
         return np.array([f.time for f in self.frames])
 
     @property
     def last(self) -> Frame:
+        """The final frame."""
         return self.frames[-1]
 
     def __repr__(self) -> str:
@@ -551,5 +622,20 @@ class Run:
 
 
 def load_run(path: str | Path) -> Run:
-    """Read a run folder written by :func:`axmpm.run`."""
+    """Read a run folder written by :func:`axmpm.run` (or ``axmpm run``) and return a
+    :class:`Run`: ``summary`` (dict), ``scenario``, ``history`` (column → array per history
+    row), ``reactions`` and ``rigid_bodies`` (name → forces and displacements per row), and
+    ``frames`` (the particles at every output time; each :class:`Frame` has ``x``, ``v``,
+    ``stress``, ``displacement``, ``material_id``, ``state``, ``state_names``, ... with shapes
+    and units in ``help(axmpm.run.output.FrameData)``). Frames are read from disk on first use.
+
+    Example, a load–settlement curve and the plastic strain at the end::
+
+        run = axmpm.load_run("runs/footing")
+        body = run.rigid_bodies["footing"]
+        settlement, load = -body["displacement"][:, 1], body["force"][:, 1]
+        strain = run.last.state_of("plastic_shear_strain")
+
+    ``FileNotFoundError`` if ``path`` is not a run folder (no summary.json).
+    """
     return Run(path)

@@ -12,23 +12,23 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ..errors import EXIT_OK
+from .output import SUMMARY, read_checkpoint
+from .runner import THREADS_HELP, report_run, resume, thread_count
+
 NAME = "resume"
 
 
 def add_parser(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p = sub.add_parser(NAME, help="continue an interrupted or killed run from its latest checkpoint")
     p.add_argument("run_dir", type=Path, metavar="DIR", help="the run's output folder")
-    p.add_argument("--threads", type=int, default=0, help="worker threads, 0 = all cores (default)")
+    p.add_argument("--threads", type=thread_count, default=0, help=THREADS_HELP)
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="show a progress bar (default: when stderr is a terminal)")
     return p
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..cli import EXIT_OK, _report_run
-    from .output import SUMMARY, read_checkpoint
-    from .runner import resume
-
     if _status(args.run_dir / SUMMARY) == "completed":
         print(f"nothing to resume: {args.run_dir} is a completed run")
         return EXIT_OK
@@ -38,7 +38,7 @@ def main(args: argparse.Namespace) -> int:
     except (OSError, ValueError):
         pass  # resume() reports the problem
     summary = resume(args.run_dir, threads=args.threads, progress=args.progress)
-    return _report_run(summary, args.run_dir)
+    return report_run(summary, args.run_dir)
 
 
 def _status(path: Path) -> str | None:

@@ -22,7 +22,6 @@ from __future__ import annotations
 import contextlib
 import json
 import math
-import os
 import shutil
 import signal
 import sys
@@ -32,7 +31,9 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from ..errors import RunError
+from ..engine import core
+from ..errors import EXIT_FAILED, EXIT_OK, RunError
+from ..scenario import Scenario
 from .lock import LOCK, RunLock
 from .output import (
     FRAMES,
@@ -56,13 +57,30 @@ from .output import (
     write_pvd,
     write_text,
 )
-from ..scenario import Scenario
 
-__all__ = ["run", "resume", "check_output_folder", "prepare_output_folder", "checkpoint_every",
+__all__ = ["run", "resume", "report_run", "THREADS_HELP", "THREADS_DEFAULT", "thread_count", "check_output_folder", "prepare_output_folder", "checkpoint_every",
            "DEFAULT_CHUNK_STEPS"]
 
 #: Steps per ``advance`` call: small enough for a responsive Ctrl-C and progress bar.
 DEFAULT_CHUNK_STEPS = 200
+
+
+#: Help of a ``--threads`` option that sets the engine threads of one run.
+THREADS_DEFAULT = "0 = every core the problem can use, one per 10,000 particles (default)"
+THREADS_HELP = f"engine threads, {THREADS_DEFAULT}"
+
+
+def thread_count(text: str) -> int:
+    """argparse type of ``--threads``: an integer >= 0 (0: the engine chooses, see :data:`THREADS_HELP`)."""
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0 (got {text!r})") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0 (got {value})")
+    return value
 
 
 def rigid_body_columns(sim: Any) -> dict[str, float]:
@@ -124,9 +142,9 @@ def prepare_output_folder(out: Path, overwrite: bool) -> None:
 
 def _engine_class() -> tuple[Any, type[BaseException]]:
     try:
-        from .. import _core  # type: ignore[attr-defined]
+        _core = core()
     except ImportError as exc:  # pragma: no cover - depends on the build
-        raise RunError(f"the compiled engine axmpm._core is not available ({exc}); run `make install`") from None
+        raise RunError(str(exc)) from None
     failure = getattr(_core, "SimulationFailure", RuntimeError)
     return _core.Simulation, failure
 
@@ -600,3 +618,20 @@ def _resume_locked(out: Path, threads: int, progress: bool | None, chunk_steps: 
                      wall_offset=ckpt.wall_seconds, engine_seconds=ckpt.engine_seconds)
     driver.last_good = ckpt
     return driver.drive(ckpt.output_index)
+
+
+def report_run(summary: dict[str, Any], out: Path) -> int:
+    """Print the outcome of a run (one line; a failure's reason on stderr) and return the exit
+    code of ``axmpm run``: :data:`~axmpm.errors.EXIT_OK` or :data:`~axmpm.errors.EXIT_FAILED`."""
+    status = summary["status"]
+    print(f"{status}: {summary['steps']} steps to t = {summary['end_time']:.6g} s, "
+          f"{summary['particles']} particles, {summary['wall_seconds']:.2f} s wall, "
+          f"{summary['particle_steps_per_second']:.3g} particle-steps/s; output in {out}")
+    if status == "failed":
+        what = {"output": "writing the output failed", "error": "the run failed"}.get(
+            summary.get("failure", ""), "simulation failed")
+        print(f"error: {what}: {summary['message']}", file=sys.stderr)
+        if summary.get("summary_not_written"):
+            print(f"error: summary.json not updated: {summary['summary_not_written']}", file=sys.stderr)
+        return EXIT_FAILED
+    return EXIT_OK

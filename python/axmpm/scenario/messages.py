@@ -33,12 +33,11 @@ def _tagged(loc: tuple[Any, ...]) -> bool:
     return loc[0] == "bodies" and len(REGION_SHAPES) > 1 and str(loc[2]) in REGION_SHAPES
 
 
-def _model_at(loc: tuple[Any, ...]) -> type[BaseModel] | None:
-    """The model class validating the table at ``loc`` (pydantic location, tags included)."""
+def _model_at(loc: tuple[Any, ...], root: type[BaseModel] | None) -> type[BaseModel] | None:
+    """The model class validating the table at ``loc`` (pydantic location, tags included);
+    ``root`` validates the whole document (location ``()``)."""
     if not loc:
-        from .model import Scenario
-
-        return Scenario
+        return root
     section = loc[0]
     if section == "materials":
         return MATERIAL_MODELS.get(str(loc[2])) if len(loc) == 3 else None
@@ -67,7 +66,9 @@ def dotted(loc: tuple[Any, ...]) -> str:
     return ".".join(str(p) for p in parts)
 
 
-def convert_errors(exc: ValidationError) -> list[tuple[str, str]]:
+def convert_errors(exc: ValidationError, root: type[BaseModel] | None = None) -> list[tuple[str, str]]:
+    """One ``(dotted key, message)`` per error of ``exc``; ``root`` is the model of the whole
+    document (the scenario), whose fields an unknown top-level key is compared with."""
     out: list[tuple[str, str]] = []
     for err in exc.errors(include_url=False):
         loc = tuple(err["loc"])
@@ -76,7 +77,7 @@ def convert_errors(exc: ValidationError) -> list[tuple[str, str]]:
         value = err.get("input")
         msg = err["msg"]
         if kind == "extra_forbidden":
-            model = _model_at(loc[:-1])
+            model = _model_at(loc[:-1], root)
             fields = list(model.model_fields) if model else []
             msg = "unknown key" + did_you_mean(loc[-1], fields)
             if model is not None and issubclass(model, MaterialModel):

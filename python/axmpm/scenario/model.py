@@ -66,7 +66,7 @@ class Scenario(Section):
         try:
             return cls.model_validate(data)
         except ValidationError as exc:
-            errors = convert_errors(exc)
+            errors = convert_errors(exc, root=cls)
             try:
                 errors = _merge_errors(errors, _partial_cross_check(data))
             except Exception:  # pragma: no cover - the field errors alone are still reported

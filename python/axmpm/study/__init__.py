@@ -1,4 +1,4 @@
 """Studies over many runs: parameter sweeps (:mod:`.sweep`), mesh convergence
-(:mod:`.convergence`), calibration (:mod:`.calibration`), and the helpers their reports share
-(:mod:`.report`: number formatting; :mod:`.plotting`: figures; :mod:`.parallel`: cores and
-process pools)."""
+(:mod:`.convergence`) and calibration (:mod:`.calibration`). Their reports share
+:mod:`axmpm.report` (number formatting) and :mod:`axmpm.plotting` (figures) with the cases, and
+:mod:`axmpm.run.parallel` (cores, process pools, Dask clients) with the case driver."""

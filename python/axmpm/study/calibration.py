@@ -32,13 +32,17 @@ import json
 import math
 import sys
 from collections.abc import Sequence
-from contextlib import contextmanager, nullcontext
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
+from ..cases.column_collapse import laws
 from ..errors import RunError, ScenarioError
-from .report import fmt, number, pct
+from ..report import fmt, number, pct
+from ..run.parallel import open_client
+from ..scenario import apply_overrides, read_toml
+from .sweep import _override_text, execute, parse_values, plan_runs, run_name
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -80,8 +84,6 @@ QUICK: dict[str, Any] = {
 
 
 def _law(key: str) -> Any:
-    from ..cases.column_collapse import laws
-
     getter = getattr(laws, "get_law", None)
     return getter(key) if getter else laws
 
@@ -241,8 +243,6 @@ def load_config(path: str | Path | None = None, quick: bool = False) -> dict[str
 
 
 def _values(spec: Any, key: str) -> list[Any]:
-    from .sweep import parse_values
-
     if isinstance(spec, (list, tuple)):
         return list(spec)
     try:
@@ -276,8 +276,6 @@ def snap_overrides(data: dict[str, Any], cell_size: float) -> list[str]:
     """Overrides that move a scenario to ``cell_size``: grid extent rounded up to whole
     cells, body corners and wall positions to the nearest grid line (at least one cell
     thick). The aspect ratio may change; analyses use the run's own geometry."""
-    from .sweep import _override_text
-
     h = float(cell_size)
     grid = data.get("grid", {})
     origin = grid.get("origin", [0.0, 0.0])
@@ -295,9 +293,6 @@ def snap_overrides(data: dict[str, Any], cell_size: float) -> list[str]:
 
 def _case_overrides(data: dict[str, Any], cfg: dict[str, Any]) -> list[str]:
     """The config's ``set`` plus, in quick mode, the coarse grid and short end time."""
-    from ..scenario import apply_overrides
-    from .sweep import _override_text
-
     overrides = list(cfg["set"])
     if cfg.get("quick"):
         current = apply_overrides(data, overrides) if overrides else data
@@ -358,8 +353,6 @@ class _SharedClient:
         self.client: Any = None
 
     def connect(self) -> Any:
-        from .sweep import open_client
-
         if self.client is None:
             self._cm = open_client(*self.args)
             self.client = self._cm.__enter__()
@@ -396,9 +389,6 @@ def calibrate(
     workers: int | None = None,
 ) -> Calibration:
     """Run the calibration and the blind predictions; write the report (module doc)."""
-    from ..scenario import read_toml
-    from .sweep import execute, plan_runs, run_name
-
     cfg = load_config(config, quick)
     if workers is not None:
         cfg["workers"] = workers

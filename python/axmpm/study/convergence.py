@@ -29,7 +29,11 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .report import pct
+from ..cases import RunSpec
+from ..cases.column_collapse import case
+from ..cases.column_collapse.deposit import profile_difference
+from ..errors import RunError
+from ..report import pct
 
 NAME = "convergence"
 
@@ -45,8 +49,6 @@ MIN_ORDER = 0.5
 def _case() -> Any:
     """The case whose meshes are compared: the column collapse (it has ``convergence_quantities``
     and a ``cell_size`` builder parameter)."""
-    from ..cases.column_collapse import case
-
     return case
 
 
@@ -122,8 +124,6 @@ def _add_profile_differences(name: str, sizes: list[float], meshes: list[dict[st
                              run_dirs: dict[float, Path] | None) -> None:
     """``profile_difference`` of every mesh's deposit to the finest one's (None where the
     column differs, e.g. a height rounded to another number of cells, or a run is missing)."""
-    from ..cases.column_collapse.deposit import profile_difference
-
     finest = sizes[-1]
     for h, m in zip(sizes, meshes):
         m["profile_difference"] = None
@@ -198,8 +198,6 @@ def _reuse(folder: Path, cases: list[str], formulation: str, overrides: list[str
            builder: dict[str, Any]) -> dict[str, Any] | None:
     """The results of an earlier call with the same cases and settings in ``folder``, all
     completed, re-analysed with the current rules; None if anything differs or is missing."""
-    from ..cases import RunSpec
-
     case = _case()
 
     try:
@@ -272,8 +270,6 @@ def add_parser(sub: Any) -> argparse.ArgumentParser:
 
 
 def main(args: argparse.Namespace) -> int:
-    from ..errors import RunError
-
     case = _case()
     cases = case.parse_cases(args.cases)
     try:

@@ -32,13 +32,17 @@ import os
 import re
 import sys
 import time as _time
-from collections.abc import Callable, Iterable, Iterator, Sequence
-from contextlib import contextmanager
-from dataclasses import dataclass, field
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ..cases import RunSpec as CaseRun, all_cases, get
 from ..errors import RunError, ScenarioError
+from ..run.output import is_completed_run
+from ..run.parallel import open_client
+from ..run.runner import run
+from ..scenario import Scenario, apply_overrides, parse_value, read_toml
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -54,7 +58,6 @@ __all__ = [
     "run_name",
     "RunSpec",
     "plan_sweep",
-    "open_client",
     "execute",
     "run_sweep",
     "SweepResult",
@@ -88,7 +91,6 @@ def case_columns(case_name: str | None) -> list[str]:
     """The extra columns of runs matched to the case ``case_name`` (its ``sweep_columns``)."""
     if not case_name:
         return []
-    from ..cases import get
 
     return list(getattr(get(case_name), "sweep_columns", ()))
 
@@ -125,8 +127,6 @@ def parse_values(text: str) -> list[Any]:
     * ``log:START:STOP:N``: N log-spaced values, both ends included, rounded to 6
       significant digits (so folder names stay short); START, STOP > 0.
     """
-    from ..scenario import parse_value
-
     m = _RANGE.match(text)
     if m:
         kind, a, b, c = m.groups()
@@ -240,8 +240,6 @@ def _override_text(key: str, value: Any) -> str:
 def matching_case(resolved: dict[str, Any]) -> str | None:
     """The first registered case whose ``matches(resolved)`` is true and that has
     ``sweep_columns`` (e.g. a column collapse: some wall has a removal time), or None."""
-    from ..cases import all_cases
-
     for case in all_cases():
         matches = getattr(case, "matches", None)
         if matches is not None and getattr(case, "sweep_columns", None) and matches(resolved):
@@ -261,8 +259,6 @@ def plan_runs(
 ) -> list[RunSpec]:
     """RunSpecs of ``combos`` (key → value) applied to the raw scenario data ``base``
     after the ``--set`` ``overrides``; each is validated, an invalid one carries its error."""
-    from ..scenario import Scenario, apply_overrides
-
     data0 = apply_overrides(base, list(overrides)) if overrides else base
     specs: list[RunSpec] = []
     names_iter = iter(names) if names is not None else None
@@ -292,8 +288,6 @@ def plan_sweep(
     overrides: Sequence[str] = (),
 ) -> list[RunSpec]:
     """RunSpecs of the Cartesian product of ``params`` (first key varies slowest)."""
-    from ..scenario import read_toml
-
     base = read_toml(scenario) if not isinstance(scenario, dict) else scenario
     items = list(params.items()) if isinstance(params, dict) else list(params)
     keys = [k for k, _ in items]
@@ -316,8 +310,6 @@ def _flatten_summary(summary: dict[str, Any]) -> dict[str, Any]:
 
 def _case_metrics(case_name: str, run_dir: Path) -> tuple[dict[str, Any], str]:
     """The ``sweep_columns`` of ``case.metrics`` on a run folder (blank, with a note, on error)."""
-    from ..cases import RunSpec as CaseRun, get
-
     try:
         case = get(case_name)
         metrics = dict(case.metrics(CaseRun(run_dir.name, {}), run_dir))
@@ -349,9 +341,6 @@ def _row_from_summary(summary: dict[str, Any], run_dir: Path, case: str | None) 
 
 def run_task(data: dict[str, Any], out: str, threads: int, case: str | None) -> dict[str, Any]:
     """Run one scenario into ``out`` on a worker; never raises for a failed run."""
-    from ..run.runner import run
-    from ..scenario import Scenario
-
     out_path = Path(out)
     started = _time.perf_counter()
     try:
@@ -367,73 +356,7 @@ def run_task(data: dict[str, Any], out: str, threads: int, case: str | None) -> 
     return _row_from_summary(summary, out_path, case)
 
 
-# --------------------------------------------------------------------------- cluster
-
-
-def default_workers(threads_per_run: int = 1) -> int:
-    from .parallel import available_cores
-
-    return max(1, available_cores() // max(1, threads_per_run))
-
-
-@contextmanager
-def open_client(
-    scheduler: str | None = None,
-    workers: int | None = None,
-    threads_per_run: int = 1,
-    processes: bool = True,
-) -> Iterator[Any]:
-    """A ``distributed.Client``: to ``scheduler`` when given, else to a fresh LocalCluster
-    of ``workers`` single-threaded workers (processes by default, see the module doc)."""
-    import logging
-
-    import dask
-    from distributed import Client, LocalCluster
-
-    if scheduler:
-        try:
-            client = Client(scheduler, timeout="20s")
-        except OSError as exc:
-            raise RunError(f"cannot connect to the Dask scheduler at {scheduler}: {exc}") from None
-        try:
-            yield client
-        finally:
-            client.close()
-        return
-    n = workers if workers and workers > 0 else default_workers(threads_per_run)
-    # A run that kills its worker (engine crash) is retried once, then recorded as failed.
-    with dask.config.set({"distributed.scheduler.allowed-failures": 1}):
-        cluster = LocalCluster(
-            n_workers=n,
-            threads_per_worker=1,
-            processes=processes,
-            dashboard_address=None,
-            silence_logs=logging.ERROR,
-        )
-        try:
-            client = Client(cluster)
-            try:
-                yield client
-            finally:
-                client.close()
-        finally:
-            cluster.close()
-
-
 # --------------------------------------------------------------------------- execution
-
-
-def _same_completed_run(run_dir: Path, resolved: dict[str, Any]) -> bool:
-    """``run_dir`` holds a completed run of exactly the ``resolved`` scenario."""
-    from ..scenario import Scenario
-
-    try:
-        summary = json.loads((run_dir / "summary.json").read_text())
-        if summary.get("program") != "axmpm" or summary.get("status") != "completed":
-            return False
-        return Scenario.from_toml(run_dir / "scenario.toml").to_dict() == resolved
-    except Exception:
-        return False
 
 
 @dataclass
@@ -492,7 +415,7 @@ def execute(
         if spec.data is None:
             rows[i] = _row(spec, {"status": "failed", "error": spec.error})
             result.invalid += 1
-        elif _same_completed_run(runs_dir / spec.name, spec.resolved or {}):
+        elif is_completed_run(runs_dir / spec.name, spec.resolved or {}):
             rows[i] = _row(spec, metrics_of(runs_dir / spec.name, spec.case))
             result.skipped += 1
         else:

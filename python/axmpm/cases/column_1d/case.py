@@ -28,15 +28,18 @@ from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
+from ...catalogue import interpolation_schemes
+from ...plotting import pyplot, save_figure, scheme_style
+from ...report import pct
+from ...run.output import load_run
 from .. import RunSpec, register
-from ...study.report import pct
+from . import exact
+from .scenario import column_errors, column_geometry, column_scenario, stress_difference
 
 
 
 def schemes() -> tuple[str, ...]:
     """Every interpolation scheme of the engine (axmpm.catalogue): all of them are verified."""
-    from ...catalogue import interpolation_schemes
-
     return interpolation_schemes()
 
 
@@ -117,8 +120,6 @@ def run_specs(resolutions: Sequence[int], schemes_: Sequence[str] | None = None,
 
 
 def column_run_scenario(run: RunSpec) -> Any:
-    from .scenario import column_scenario
-
     p = run.params
     return column_scenario(
         p["formulation"], p["scheme"], p["mode"],
@@ -149,8 +150,6 @@ def _end_rows(run: RunSpec) -> tuple[float, float]:
 def column_reference(run: RunSpec) -> dict[str, float]:
     """The exact solution at the particle rows of both ends: vertical displacement of the free
     end and vertical stress of the fixed end."""
-    from . import exact
-
     free, fixed = _end_rows(run)
     args = (HEIGHT, DENSITY, GRAVITY, YOUNGS_MODULUS, run.params["mode"])
     return {"free_end_displacement": float(exact.vertical_displacement(free, *args)),
@@ -170,9 +169,6 @@ def column_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
     import json
 
     import numpy as np
-
-    from ...run.output import load_run
-    from .scenario import column_errors, column_geometry
 
     out = dict(EMPTY_METRICS)
     try:
@@ -208,9 +204,6 @@ def case_passes(record: dict[str, Any]) -> bool:
 def add_twin_differences(cases: list[dict[str, Any]], out: str | Path) -> None:
     """Set ``plane_strain_difference`` of every completed axisymmetric run whose plane-strain
     twin completed: relative L2 difference of the vertical stress, particle by particle."""
-    from ...run.output import load_run
-    from .scenario import stress_difference
-
     by_key = {_twin_key(c): c for c in cases if c["layout"] == "plane_strain"}
     for case in cases:
         if case["layout"] == "plane_strain" or case["status"] != "completed":
@@ -326,8 +319,6 @@ def evaluate_checks(cases: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 def make_figures(results: dict[str, Any], out: Path) -> dict[str, Path]:
     """Stress profiles (one figure per layout, schemes × modes) and the convergence plot."""
-    from ...study.plotting import pyplot, save_figure
-
     plt = pyplot()
     cases = results["cases"]
     paths: dict[str, Path] = {}
@@ -342,11 +333,6 @@ def make_figures(results: dict[str, Any], out: Path) -> dict[str, Path]:
 
 def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: str) -> Any:
     import numpy as np
-
-    from . import exact
-    from .scenario import column_geometry
-    from ...run.output import load_run
-    from ...study.plotting import scheme_style
 
     present = [s for s in schemes() if any(c["scheme"] == s and c["layout"] == layout for c in cases)]
     if not present:
@@ -388,8 +374,6 @@ def _profile_figure(plt: Any, cases: list[dict[str, Any]], out: Path, layout: st
 
 def _convergence_figure(plt: Any, cases: list[dict[str, Any]]) -> Any:
     from matplotlib.ticker import FormatStrFormatter, NullFormatter
-
-    from ...study.plotting import scheme_style
 
     fig, axes = plt.subplots(2, 2, figsize=(9.0, 7.0), squeeze=False)
     line_styles = {"plane_strain": "-", "axisymmetric_axis": "--", "axisymmetric_offset": ":"}

@@ -7,6 +7,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ...run.output import load_run
+from ...run.runner import run
 from .scenario import ColumnErrors, column_errors, column_scenario
 
 
@@ -20,9 +22,6 @@ class DemoResult:
 def run_demo(out: str | Path = "runs/demo", overwrite: bool = False, threads: int = 0,
              progress: bool | None = None) -> DemoResult:
     """Run the demo column and compare its last frame with the exact solution."""
-    from ...run.output import load_run
-    from ...run.runner import run
-
     scenario = column_scenario(
         "axisymmetric", "linear", "compression", cells_along=32, cells_across=2, load_ratio=0.01
     )

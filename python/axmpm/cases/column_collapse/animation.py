@@ -4,10 +4,13 @@ by speed, written with matplotlib's Pillow writer (Pillow is a matplotlib depend
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-__all__ = ["animate_collapse"]
+from ...run.output import load_run
+
+__all__ = ["animate_collapse", "write_animations"]
 
 
 def animate_collapse(run_dir: str | Path, path: str | Path, fps: int = 8, max_frames: int = 60,
@@ -20,8 +23,6 @@ def animate_collapse(run_dir: str | Path, path: str | Path, fps: int = 8, max_fr
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.animation import FuncAnimation, PillowWriter
-
-    from ...run.output import load_run
 
     run = load_run(run_dir)
     frames = run.frames
@@ -60,3 +61,19 @@ def animate_collapse(run_dir: str | Path, path: str | Path, fps: int = 8, max_fr
     animation.save(path, writer=PillowWriter(fps=fps))
     plt.close(fig)
     return path
+
+
+def write_animations(cases: list[dict[str, Any]], out: Path) -> str:
+    """An animated GIF per case (``NAME.gif`` in ``out``: particles coloured by speed,
+    :func:`animate_collapse`) and the Markdown that shows them."""
+    lines = []
+    for c in cases:
+        if not c.get("run_dir"):
+            continue
+        gif = out / f"{c['name']}.gif"
+        animate_collapse(out / c["run_dir"], gif, title=f"a = {c['aspect_ratio']:.3g}")
+        lines.append(f"![{c['name']}]({gif.name})")
+    if not lines:
+        return ""
+    return ("\n".join(lines) + "\n\n*Each collapse: the particles at every output, coloured by speed "
+            "(axes in units of R_i).*\n")

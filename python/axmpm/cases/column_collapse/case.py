@@ -19,12 +19,19 @@ from typing import Any
 
 import numpy as np
 
+from ...errors import RunError, ScenarioError
+from ...report import DASH, fmt, pct
+from ...run.output import load_run
+from ...scenario import Scenario, apply_overrides, parse_value
 from .. import RunSpec, register
-from ...study.report import DASH, fmt, pct
+from ..driver import verify_or_validate
+from .animation import write_animations
 from .deposit import deposit_metrics, geometry_from_scenario, mass_fraction_beyond, profiles
+from .energy import energy_shares, lode_work_shares, sideways_energy
 from .laws import compare, laws_for, primary_law
-from .scenario import collapse_scenario
+from .scenario import DEFAULTS, collapse_scenario
 from .status import law_scores, status_text
+from .sweep_report import sweep_report
 
 #: The three validation columns: run name → aspect ratio a = H_i/R_i.
 CASES: dict[str, float] = {"a056": 0.56, "a08": 0.8, "a54": 5.4}
@@ -77,9 +84,6 @@ def case_scenario(name: str, formulation: str = "axisymmetric", overrides: list[
                   aspect_ratio: float | None = None, **builder: Any) -> Any:
     """The scenario of a column: :func:`~.scenario.collapse_scenario` + ``--set`` overrides
     (``aspect_ratio`` given: a sweep column of any a; otherwise one of :data:`CASES`)."""
-    from ...errors import ScenarioError
-    from ...scenario import Scenario, apply_overrides
-
     if aspect_ratio is None:
         if name not in CASES:
             raise KeyError(f"unknown case {name!r}; known: {', '.join(CASES)}")
@@ -102,8 +106,6 @@ def split_overrides(items: list[str]) -> tuple[list[str], dict[str, Any]]:
     ``end_time``, ...) goes to the builder, so the geometry stays on the grid."""
     import inspect
 
-    from ...scenario import parse_value
-
     params = set(inspect.signature(collapse_scenario).parameters) - {"aspect_ratio", "as_dict", "formulation"}
     scenario_items, builder = [], {}
     for item in items:
@@ -117,8 +119,6 @@ def split_overrides(items: list[str]) -> tuple[list[str], dict[str, Any]]:
 
 def parse_cases(text: str | None) -> list[str]:
     """``--cases``: comma-separated column names, each one of :data:`CASES` (None: all)."""
-    from ...errors import RunError
-
     if text is None:
         return list(CASES)
     cases = [c.strip() for c in text.split(",") if c.strip()]
@@ -149,8 +149,6 @@ SWEEP_CELLS_PER_RADIUS = 30
 
 def parse_aspect_ratios(text: str) -> list[float]:
     """``--aspect-ratios``: comma-separated positive numbers (RunError naming the option)."""
-    from ...errors import RunError
-
     values: list[float] = []
     for item in (t.strip() for t in str(text).split(",")):
         if not item:
@@ -190,8 +188,6 @@ def _state_ratio(frame: Any, numerator: str, denominator: str) -> float | None:
 def case_result(name: str, run_dir: Path, nominal_a: float | None = None) -> dict[str, Any]:
     """The figures of a finished collapse run: its deposit (:func:`deposit_metrics`), against
     every law, and the run's own status."""
-    from ...run.output import load_run
-
     m = deposit_metrics(run_dir)
     run = load_run(run_dir)
     a = m["aspect_ratio"]
@@ -363,24 +359,6 @@ def results_table(cases: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def write_animations(cases: list[dict[str, Any]], out: Path) -> str:
-    """An animated GIF per case (``NAME.gif`` in ``out``: particles coloured by speed,
-    :func:`.animation.animate_collapse`) and the Markdown that shows them."""
-    from .animation import animate_collapse
-
-    lines = []
-    for c in cases:
-        if not c.get("run_dir"):
-            continue
-        gif = out / f"{c['name']}.gif"
-        animate_collapse(out / c["run_dir"], gif, title=f"a = {c['aspect_ratio']:.3g}")
-        lines.append(f"![{c['name']}]({gif.name})")
-    if not lines:
-        return ""
-    return ("\n".join(lines) + "\n\n*Each collapse: the particles at every output, coloured by speed "
-            "(axes in units of R_i).*\n")
-
-
 def report_text(out: Path, data: dict[str, Any], figures: bool = True) -> str:
     """The Markdown report; writes ``profiles.png`` and ``laws.png`` in ``out`` (``figures``)."""
     cases = data["cases"]
@@ -505,8 +483,6 @@ class ColumnCollapse:
         return getattr(options, "aspect_ratios", None) is not None
 
     def runs(self, options: argparse.Namespace) -> list[RunSpec]:
-        from ...errors import RunError
-
         overrides, builder = _options_overrides(options)
         cell = getattr(options, "cell_size", None)
         if cell is not None:
@@ -522,8 +498,6 @@ class ColumnCollapse:
             if getattr(options, "cases", None):
                 raise RunError("--aspect-ratios and --cases exclude each other")
             if "cell_size" not in builder:
-                from .scenario import DEFAULTS
-
                 builder["cell_size"] = builder.get("radius", DEFAULTS["radius"]) / SWEEP_CELLS_PER_RADIUS
             return sweep_specs(parse_aspect_ratios(options.aspect_ratios),
                                getattr(options, "formulation", "axisymmetric"), overrides, builder)
@@ -542,8 +516,6 @@ class ColumnCollapse:
 
     def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
         result = case_result(run.name, run_dir, run.params.get("nominal_aspect_ratio", CASES.get(run.name)))
-        from ...run.output import load_run
-        from .energy import energy_shares, lode_work_shares, sideways_energy
 
         result["energy"] = energy_shares(run_dir)
         run_data = load_run(run_dir)  # both frame diagnostics read its frames, each once
@@ -600,8 +572,6 @@ class ColumnCollapse:
         context = getattr(results, "context", {})
         options = argparse.Namespace(**context.get("options", {}))
         if self.resumable(options):
-            from .sweep_report import sweep_report
-
             return sweep_report(list(results), Path(out), self.document(results, options),
                                 figures=context.get("figures", True))
         data = {**self.document(results, options), "cases": list(results)}
@@ -616,8 +586,6 @@ def run_validation(out: str | Path, cases: list[str] | None = None, formulation:
                    log: Any = None, **builder: Any) -> dict[str, Any]:
     """Run the columns ``cases`` (default all) through the generic driver into ``out``; write
     ``validation.json`` and ``report.md`` (figures only when ``report``); return the JSON data."""
-    from ..driver import verify_or_validate
-
     options = argparse.Namespace(cases=",".join(cases) if cases else None, formulation=formulation,
                                  overrides=list(overrides or []), builder=builder, quick=False, figures=report)
     return verify_or_validate("validation", [CASE], options, out, jobs=jobs, overwrite=True, log=log)

@@ -10,6 +10,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from ...run.runner import run
+from .case import CASES, case_result, plot_profiles, results_table
+from .scenario import DEFAULTS, collapse_scenario
+
 #: Cell size of the demo, m: 30 cells per R_i = 3 cm, where a ≤ 0.8 is converged (docs/validation.md).
 DEMO_CELL_SIZE = 0.001
 
@@ -27,8 +31,6 @@ def model_description(builder: dict[str, Any] | None = None) -> str:
     """One line naming the collapse's material model and its parameters, from the builder's
     defaults updated by ``builder``."""
     import math
-
-    from .scenario import DEFAULTS
 
     p = {**DEFAULTS, **(builder or {})}
     model = p["material_model"]
@@ -48,10 +50,6 @@ def model_description(builder: dict[str, Any] | None = None) -> str:
 def run_collapse_demo(out: str | Path = "runs/demo", overwrite: bool = False, threads: int = 0,
                       progress: bool | None = None, **builder: Any) -> CollapseDemoResult:
     """Run the a = 0.56 collapse; write ``profiles.png`` and ``demo.json``/``demo.md`` in ``out``."""
-    from ...run.runner import run
-    from .case import CASES, case_result, plot_profiles, results_table
-    from .scenario import collapse_scenario
-
     out = Path(out)
     builder.setdefault("cell_size", DEMO_CELL_SIZE)
     scenario = collapse_scenario(CASES["a056"], **builder)

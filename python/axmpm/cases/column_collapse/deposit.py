@@ -51,6 +51,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ...run.output import load_run
+
 __all__ = [
     "ColumnGeometry",
     "geometry_from_scenario",
@@ -351,8 +353,6 @@ def deposit_metrics(run_dir: str | Path) -> dict[str, Any]:
     three grains thick), ``runout_radius_99``, ``max_particle_radius``, ``max_particle_height``, ``cell_size``,
     ``cells_per_radius``, ``frame``, ``status``. Geometry comes from the scenario's first body.
     """
-    from ...run.output import load_run
-
     run = load_run(run_dir)
     if not run.frames:
         raise ValueError(f"{run_dir}: the run has no frames")
@@ -376,8 +376,6 @@ def profile_difference(run_dir: str | Path, reference_dir: str | Path,
     converges when it shrinks, whatever rule then reads a runout off the profile."""
     from dataclasses import replace
 
-    from ...run.output import load_run
-
     runs = [load_run(run_dir), load_run(reference_dir)]
     geoms = [geometry_from_scenario(r.scenario) for r in runs]
     a, b = (g.aspect_ratio for g in geoms)
@@ -400,8 +398,6 @@ def profiles(run_dir: str | Path, interval: float | None = None,
              method: str = "volume") -> list[dict[str, Any]]:
     """Free-surface profiles of every frame (or frames ~``interval`` apart):
     ``[{"time", "r", "h"}]`` in metres, relative to the axis and the base."""
-    from ...run.output import load_run
-
     run = load_run(run_dir)
     geom = geometry_from_scenario(run.scenario)
     r_max = max(float(np.max(f.x[:, 0])) for f in (run.frames[0], run.frames[-1])) - geom.axis

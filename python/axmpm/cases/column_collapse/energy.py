@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from ...run.output import Run, load_run
+
 __all__ = ["TERMS", "energy_history", "energy_shares", "kinetic_energy_split", "sideways_energy", "lode_parameter",
            "plastic_work_by_lode", "lode_work_shares", "plot_energy"]
 
@@ -82,8 +84,6 @@ def kinetic_energy_split(frames: Any, gravity: Any) -> dict[str, np.ndarray]:
 def _as_run(run: Any) -> Any:
     """A run folder's :class:`~axmpm.run.output.Run`; a Run is passed through, so callers
     that read several frame diagnostics load (and cache) the frames once."""
-    from ...run.output import Run, load_run
-
     return run if isinstance(run, Run) else load_run(run)
 
 

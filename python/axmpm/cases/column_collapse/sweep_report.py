@@ -23,7 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from ...study.report import DASH, fmt, pct
+from ...report import DASH, fmt, pct
+from .animation import write_animations
 from .energy import TERMS, plot_energy
 from .laws import TABLE_LAWS
 from .status import status_text
@@ -298,8 +299,6 @@ def sweep_report(cases: list[dict[str, Any]], out: Path, document: dict[str, Any
         cases[0]["law_agreement"] = agreement  # validation.json keeps it with the first record
     animations = ""
     if figures and ok:
-        from .case import write_animations
-
         animations = write_animations(ok, out)
         plot_sweep_laws(ok, fits, out / "sweep_laws.png")
         if energy_runs:

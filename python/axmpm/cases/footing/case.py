@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from ...report import DASH, fmt, pct
 from .. import RunSpec, register
-from ...study.report import DASH, fmt, pct
 from .scenario import EXACT, MESHES, SETTLEMENT_WINDOW, bearing_capacity_factor, footing_scenario, load_settlement
 
 #: (formulation, roughness) of the four cases, and their titles.
@@ -258,7 +258,7 @@ def nc_table(results: list[dict[str, Any]], metric: str = "bearing_capacity_fact
 
 
 def plot_load_settlement(results: list[dict[str, Any]], out: Path, path: Path) -> Path:
-    from ...study.plotting import pyplot, save_figure
+    from ...plotting import pyplot, save_figure
 
     plt = pyplot()
     fig, axes = plt.subplots(2, 2, figsize=(10, 7.5), sharex=True)
@@ -286,7 +286,7 @@ def plot_load_settlement(results: list[dict[str, Any]], out: Path, path: Path) -
 
 
 def plot_convergence(results: list[dict[str, Any]], path: Path) -> Path:
-    from ...study.plotting import pyplot, save_figure
+    from ...plotting import pyplot, save_figure
 
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6, 4.5))

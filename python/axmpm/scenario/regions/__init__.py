@@ -30,6 +30,7 @@ from typing import Annotated, Any, Union
 
 from pydantic import BeforeValidator, Field
 
+from ...catalogue import region_shapes
 from ..bodies import Region, body_class
 
 __all__ = ["register_region", "REGION_SHAPES", "DEFAULT_SHAPE", "body_type", "shape_names"]
@@ -61,8 +62,6 @@ for _info in pkgutil.iter_modules(__path__):
 def shape_names() -> list[str]:
     """The registered shapes: the engine's catalogue order first, then any others by name
     (loads the engine: for messages, not at import)."""
-    from ...catalogue import region_shapes
-
     engine = [s for s in region_shapes() if s in REGION_SHAPES]
     return engine + sorted(set(REGION_SHAPES) - set(engine))
 

@@ -9,6 +9,7 @@ from pydantic import Field
 from ..bodies import GridFrame, Region
 from ..fields import Vec2, fmt, on_grid_line
 from . import register_region
+from .polygon import lattice_centres
 
 if TYPE_CHECKING:
     import numpy as np
@@ -49,8 +50,6 @@ class Rectangle(Region):
 
     def lattice_points(self, origin: Vec2, cell_size: float) -> "np.ndarray":
         """The body's particle positions (N × 2): every lattice point of its cells."""
-        from .polygon import lattice_centres
-
         if self.bounding_box() is None:
             import numpy as np
 
