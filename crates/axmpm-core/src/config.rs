@@ -184,6 +184,10 @@ pub struct BodyConfig {
     /// Lateral earth-pressure ratio for geostatic stress; `None` = ν/(1−ν).
     #[serde(default)]
     pub k0: Option<f64>,
+    /// Saturated with pore water (two-phase; `solver::saturated`); `None`: a dry or
+    /// total-stress body, computed exactly as without this key.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub saturated: Option<crate::solver::saturated::SaturatedConfig>,
     /// The region the body fills: `shape` (default "rectangle") and the shape's own keys
     /// (rectangle: `min`, `max`), read by [`crate::geometry::build`].
     #[serde(flatten)]
@@ -201,6 +205,7 @@ impl BodyConfig {
             velocity: [0.0; 2],
             initial_stress: default_initial_stress(),
             k0: None,
+            saturated: None,
             region: crate::geometry::rectangle::table(min, max),
         }
     }
@@ -301,6 +306,9 @@ pub struct Config {
     /// `name`, the region keys (`shape`, ...), `velocity` or `motion`, `friction`.
     #[serde(default)]
     pub rigid_bodies: Vec<serde_json::Map<String, serde_json::Value>>,
+    /// Which grid faces let the pore water out (saturated bodies only; `solver::saturated`).
+    #[serde(default, skip_serializing_if = "crate::solver::saturated::DrainageConfig::is_default")]
+    pub drainage: crate::solver::saturated::DrainageConfig,
     /// Any other top-level sections the front end keeps (output, analysis, ...).
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
@@ -365,6 +373,7 @@ impl Config {
             return Err("bodies: at least one body is needed".into());
         }
         self.build_rigid_bodies()?;
+        crate::solver::saturated::validate(self)?;
         Ok(())
     }
 

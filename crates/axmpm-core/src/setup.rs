@@ -22,7 +22,9 @@ pub fn create_particles<F: Formulation>(
 ) -> Result<Particles, String> {
     let mut particles = Particles { state_stride, ..Default::default() };
     let rigid_bodies = config.build_rigid_bodies()?;
+    let mut ranges = Vec::with_capacity(config.bodies.len());
     for (i, body) in config.bodies.iter().enumerate() {
+        let first = particles.len();
         let context = format!("bodies[{i}]");
         let region = geometry::build(&context, &body.region)?;
         let id = material_names.iter().position(|n| *n == body.material).expect("validated material name");
@@ -38,7 +40,10 @@ pub fn create_particles<F: Formulation>(
         let mut keep = |x: [f64; 2]| !rigid_bodies.iter().any(|b| b.contains(x, 0.0));
         let gravity = config.simulation.gravity;
         add_body::<F>(&mut particles, body, region.as_ref(), grid, materials[id].as_ref(), id as u32, k0, gravity, &mut keep);
+        ranges.push(first..particles.len());
     }
+    // Saturated bodies: porosity, pore pressure, solid mass (nothing for a dry run).
+    crate::solver::saturated::initialise::<F>(config, &mut particles, &ranges);
     if with_corners {
         particles.corners = (0..particles.len())
             .map(|p| Particles::rectangle_corners(particles.position[p], particles.initial_half_width[p]))
