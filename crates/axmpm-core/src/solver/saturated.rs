@@ -297,6 +297,8 @@ pub struct WaterState {
     /// (node, direction) of the nodes whose water velocity follows the solid's in that
     /// direction (impermeable faces and walls, the axis).
     pub impermeable: Vec<(u32, u8)>,
+    /// Some particle carries a surface load ([`Particles::external_force`]).
+    pub loaded: bool,
     /// Per particle: Δt ∇·w, then the storage increment; the volume at the start of the update.
     pub water_dilatation: Vec<f64>,
     pub volume_before: Vec<f64>,
@@ -327,6 +329,7 @@ impl WaterState {
             velocity: vec![[0.0; 2]; nodes],
             velocity_new: vec![[0.0; 2]; nodes],
             impermeable: impermeable_nodes(grid, &config.boundaries, &config.drainage, &config.walls, axisymmetric),
+            loaded: particles.external_force.iter().any(|f| *f != [0.0; 2]),
             water_dilatation: vec![0.0; n],
             volume_before: vec![0.0; n],
             cell_volume: vec![0.0; cells],
@@ -509,7 +512,12 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
         }
         serial += serial_start.elapsed();
     }
-    let reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
+    let mut reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
+    if water.loaded {
+        let serial_start = std::time::Instant::now();
+        reached = reached.union(add_surface_loads(&grid, particles, &mut state.fields.force));
+        serial += serial_start.elapsed();
+    }
     state.scratch.grid_region = reached.union(previous);
     state.scratch.grid_reached = reached;
     state.timings.serial += serial.as_secs_f64();
@@ -562,7 +570,6 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         let n = particles.porosity[p];
         let pressure = particles.pore_pressure[p];
         let w = particles.water_velocity[p];
-        let load = particles.external_force[p];
         // The water's masses and drag (zero for a dry particle, n = 0).
         let equation_mass = if n > 0.0 { rho_w * vol } else { 0.0 };
         let water_mass = n * equation_mass;
@@ -571,7 +578,7 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         let minus_vs = [-vol * (s[0] - pressure), -vol * (s[1] - pressure), -vol * s[3]];
         let hoop_factor = if F::AXISYMMETRIC { F::hoop_factor(x) } else { 0.0 };
         let hoop = vol * (s[2] - pressure) * hoop_factor;
-        let body = [(m + water_mass) * gravity[0] - hoop + load[0], (m + water_mass) * gravity[1] + load[1]];
+        let body = [(m + water_mass) * gravity[0] - hoop, (m + water_mass) * gravity[1]];
         // Water: −∇p integrated by parts, V p ∇S, with V p S / R_p on r in axisymmetry.
         let vp = vol * pressure;
         let water_body = [equation_mass * gravity[0] + vp * hoop_factor, equation_mass * gravity[1]];
@@ -597,6 +604,35 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         });
     }
     reach
+}
+
+/// Adds each loaded particle's surface load to the nodes at the point of the surface it
+/// carries, its upper edge (x_p, y_p + l_y F22): the bilinear weights of that point's cell, so
+/// that the load reaches the surface's nodes, as a traction does, and not the particle's
+/// centre (where the material above it would carry none of it). One thread, in array order.
+/// Returns the nodes it added to.
+fn add_surface_loads(grid: &GridGeometry, particles: &Particles, force: &mut [[f64; 2]]) -> NodeBox {
+    let mut reached = NodeBox::EMPTY;
+    for (p, load) in particles.external_force.iter().enumerate() {
+        if *load == [0.0; 2] {
+            continue;
+        }
+        let x = particles.position[p];
+        let point = [x[0], x[1] + particles.initial_half_width[p][1] * particles.deformation_gradient[p][3]];
+        let [i, j] = grid.cell_of(point);
+        let local = grid.local(point);
+        let (fx, fy) = ((local[0] - i as f64).clamp(0.0, 1.0), (local[1] - j as f64).clamp(0.0, 1.0));
+        for (di, dj, w) in [(0, 0, (1.0 - fx) * (1.0 - fy)), (1, 0, fx * (1.0 - fy)), (0, 1, (1.0 - fx) * fy), (1, 1, fx * fy)] {
+            if w > 0.0 {
+                let node = grid.node_index(i + di, j + dj);
+                force[node][0] += w * load[0];
+                force[node][1] += w * load[1];
+                let (c, r) = ((i + di) as u32, (j + dj) as u32);
+                reached = reached.union(NodeBox { columns: [c, c], rows: [r, r] });
+            }
+        }
+    }
+    reached
 }
 
 /// Nodal velocities of both phases before and after the coupled momentum update, with the
