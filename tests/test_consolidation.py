@@ -53,7 +53,7 @@ def test_quick_run_meets_terzaghi(tmp_path: Path) -> None:
     # Frames carry the pore pressure, the porosity and the water velocity.
     from axmpm.run.output import load_run
 
-    frame = load_run(records["plane_strain_n10"]["run_dir"]).last
+    frame = load_run(tmp_path / records["plane_strain_n10"]["run_dir"]).last
     assert frame.pore_pressure.shape == (len(frame.x),) and frame.water_velocity.shape == (len(frame.x), 2)
     # The skeleton compressed: the porosity fell below its initial 0.4.
     assert (frame.porosity < consolidation.POROSITY).all() and (frame.porosity > 0.3).all()
