@@ -4,7 +4,8 @@
 mod common;
 
 use axmpm_core::config::*;
-use axmpm_core::solver::saturated::{SaturatedConfig, STANDARD_GRAVITY};
+use axmpm_core::config::SaturatedConfig;
+use axmpm_core::solver::saturated::STANDARD_GRAVITY;
 use axmpm_core::Simulation;
 
 /// Skeleton: linear elastic, ν = 0 so that E_oed = E.

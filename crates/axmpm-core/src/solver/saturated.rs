@@ -33,11 +33,10 @@
 //! step), so dry results are unchanged bit for bit.
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use super::tiles::{inside, zero_box, Shared, TileReach, COLOURS};
 use super::{Failure, State};
-use crate::config::{BoundariesConfig, Condition, Config, FormulationKind, Side, WallConfig};
+use crate::config::{BoundariesConfig, Condition, Config, Drainage, DrainageConfig, FormulationKind, Side, WallConfig};
 use crate::constraint::NodalContext;
 use crate::formulation::Formulation;
 use crate::grid::{GridGeometry, NodeBox};
@@ -49,138 +48,9 @@ use crate::particles::Particles;
 /// whatever gravity the run itself applies (m/s²).
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
-fn default_water_bulk_modulus() -> f64 {
-    2.2e9
-}
-fn default_water_density() -> f64 {
-    1000.0
-}
-
-/// A body's `saturated` table.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SaturatedConfig {
-    /// Initial porosity n, in (0, 1).
-    pub porosity: f64,
-    /// Hydraulic conductivity k, m/s (> 0).
-    pub hydraulic_conductivity: f64,
-    /// Bulk modulus of the pore water K_w, Pa (> 0).
-    #[serde(default = "default_water_bulk_modulus")]
-    pub water_bulk_modulus: f64,
-    /// Density of the pore water ρ_w, kg/m³ (> 0).
-    #[serde(default = "default_water_density")]
-    pub water_density: f64,
-    /// Initial pore pressure hydrostatic below this height (m): p = ρ_w |g_y| (z_w − y), 0 above.
-    #[serde(default)]
-    pub water_table: Option<f64>,
-    /// Initial pore pressure, uniform (Pa); used when `water_table` is not given (default 0).
-    #[serde(default)]
-    pub pore_pressure: Option<f64>,
-    /// A uniform pressure (Pa, ≥ 0) on the body's top surface, carried by its top row of
-    /// particles from t = 0 on (the load of a consolidation test).
-    #[serde(default)]
-    pub surface_load: f64,
-}
-
-/// What a grid face does to the pore water.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Drainage {
-    /// p = 0: the water leaves freely.
-    Drained,
-    /// No flow through the face: the water's normal velocity is the solid's.
-    Impermeable,
-}
-
-/// The `drainage` table: one [`Drainage`] per grid face. A face not given is impermeable when
-/// it supports the solid (roller, fixed, friction) and drained when free. The symmetry axis
-/// and the walls are always impermeable.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DrainageConfig {
-    #[serde(default)]
-    pub left: Option<Drainage>,
-    #[serde(default)]
-    pub right: Option<Drainage>,
-    #[serde(default)]
-    pub bottom: Option<Drainage>,
-    #[serde(default)]
-    pub top: Option<Drainage>,
-}
-
-impl DrainageConfig {
-    pub fn is_default(&self) -> bool {
-        *self == Self::default()
-    }
-
-    /// The drainage of each face [left, right, bottom, top], the defaults resolved.
-    pub fn resolve(&self, faces: &BoundariesConfig) -> [Drainage; 4] {
-        let default = |c: Condition| if c == Condition::Free { Drainage::Drained } else { Drainage::Impermeable };
-        [
-            self.left.unwrap_or(default(faces.left.condition)),
-            self.right.unwrap_or(default(faces.right.condition)),
-            self.bottom.unwrap_or(default(faces.bottom.condition)),
-            self.top.unwrap_or(default(faces.top.condition)),
-        ]
-    }
-}
-
 /// Whether any body of `config` is saturated (the run then takes [`step`]).
 pub fn is_saturated(config: &Config) -> bool {
     config.bodies.iter().any(|b| b.saturated.is_some())
-}
-
-/// Range checks of the `saturated` tables, naming the key; one pore water per run.
-pub fn validate(config: &Config) -> Result<(), String> {
-    let mut water: Option<(f64, f64)> = None;
-    let g = &config.grid;
-    for (i, b) in config.bodies.iter().enumerate() {
-        let Some(s) = &b.saturated else { continue };
-        let key = |k: &str| format!("bodies[{i}].saturated.{k}");
-        if !(s.porosity > 0.0 && s.porosity < 1.0) {
-            return Err(format!("{} must be in (0, 1) (got {})", key("porosity"), s.porosity));
-        }
-        if !(s.hydraulic_conductivity > 0.0 && s.hydraulic_conductivity.is_finite()) {
-            return Err(format!("{} must be > 0 m/s (got {})", key("hydraulic_conductivity"), s.hydraulic_conductivity));
-        }
-        if !(s.water_bulk_modulus > 0.0 && s.water_bulk_modulus.is_finite()) {
-            return Err(format!("{} must be > 0 Pa (got {})", key("water_bulk_modulus"), s.water_bulk_modulus));
-        }
-        if !(s.water_density > 0.0 && s.water_density.is_finite()) {
-            return Err(format!("{} must be > 0 kg/m³ (got {})", key("water_density"), s.water_density));
-        }
-        if let Some(z) = s.water_table {
-            let (lo, hi) = (g.origin[1], g.origin[1] + g.extent[1]);
-            if !(z >= lo && z <= hi) {
-                return Err(format!("{} must lie inside the grid, in [{lo}, {hi}] (got {z})", key("water_table")));
-            }
-            if s.pore_pressure.is_some() {
-                return Err(format!("{}: give either water_table or pore_pressure, not both", key("pore_pressure")));
-            }
-        }
-        if let Some(p) = s.pore_pressure {
-            if !p.is_finite() {
-                return Err(format!("{} must be finite (got {p})", key("pore_pressure")));
-            }
-        }
-        if !(s.surface_load >= 0.0 && s.surface_load.is_finite()) {
-            return Err(format!("{} must be >= 0 Pa (got {})", key("surface_load"), s.surface_load));
-        }
-        match water {
-            None => water = Some((s.water_bulk_modulus, s.water_density)),
-            Some(w) if w != (s.water_bulk_modulus, s.water_density) => {
-                return Err(format!(
-                    "{}, {}: every saturated body holds the same pore water (got K_w, ρ_w = {:?} and {:?})",
-                    key("water_bulk_modulus"),
-                    key("water_density"),
-                    w,
-                    (s.water_bulk_modulus, s.water_density)
-                ))
-            }
-            Some(_) => {}
-        }
-    }
-    Ok(())
 }
 
 /// The pore water of the run (K_w, ρ_w), from the first saturated body.
@@ -216,61 +86,6 @@ pub fn wave_speed(config: &Config, materials: &[Box<dyn Material>]) -> f64 {
             Some(saturated_wave_speed(e_c, m.density(), s.porosity, s.water_bulk_modulus, s.water_density))
         })
         .fold(0.0, f64::max)
-}
-
-/// Gives the particles of the saturated bodies (`bodies[i]` made the particles `ranges[i]`)
-/// their water: porosity, conductivity, initial pore pressure, the solid mass (1 − n) ρ_s V
-/// (the material's density is the grains'), the effective geostatic stress and the surface
-/// load. Allocates the water arrays for every particle (dry bodies get n = 0).
-pub fn initialise<F: Formulation>(config: &Config, particles: &mut Particles, ranges: &[std::ops::Range<usize>]) {
-    if !is_saturated(config) {
-        return;
-    }
-    let n_particles = particles.len();
-    particles.pore_pressure = vec![0.0; n_particles];
-    particles.porosity = vec![0.0; n_particles];
-    particles.water_velocity = vec![[0.0; 2]; n_particles];
-    particles.hydraulic_conductivity = vec![0.0; n_particles];
-    particles.external_force = vec![[0.0; 2]; n_particles];
-    let gravity_y = config.simulation.gravity[1];
-    for (body, range) in config.bodies.iter().zip(ranges) {
-        let Some(s) = &body.saturated else { continue };
-        let n = s.porosity;
-        let rho_s = crate::material::Parameters::new(&body.material, &config.materials[&body.material].parameters)
-            .f64("density")
-            .unwrap_or(0.0);
-        let rho_sat = (1.0 - n) * rho_s + n * s.water_density;
-        let spacing = config.grid.cell_size / body.particles_per_cell.max(1) as f64;
-        let top = range.clone().map(|p| particles.position[p][1]).fold(f64::NEG_INFINITY, f64::max);
-        for p in range.clone() {
-            let x = particles.position[p];
-            particles.porosity[p] = n;
-            particles.hydraulic_conductivity[p] = s.hydraulic_conductivity;
-            particles.mass[p] *= 1.0 - n;
-            let pressure = match (s.water_table, s.pore_pressure) {
-                (Some(z), _) => s.water_density * (-gravity_y) * (z - x[1]).max(0.0),
-                (None, Some(p0)) => p0,
-                (None, None) => 0.0,
-            };
-            particles.pore_pressure[p] = pressure;
-            if body.initial_stress == crate::config::InitialStress::Geostatic {
-                // The set-up's total geostatic stress of the grains' density, made effective:
-                // σ′_v = ρ_sat g_y d + p, the lateral components in the same ratio K0.
-                let stress = &mut particles.stress[p];
-                if stress[1] != 0.0 {
-                    let vertical = stress[1] * rho_sat / rho_s + pressure;
-                    let scale = vertical / stress[1];
-                    for c in stress.iter_mut() {
-                        *c *= scale;
-                    }
-                }
-            }
-            // The top row of particles carries the surface load: q times its width (× R_p).
-            if s.surface_load > 0.0 && x[1] > top - 0.5 * spacing {
-                particles.external_force[p] = [0.0, -s.surface_load * spacing * F::volume_factor(x)];
-            }
-        }
-    }
 }
 
 /// Nodal fields and per-particle scratch of the water, allocated with the run.
