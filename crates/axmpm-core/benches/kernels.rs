@@ -125,6 +125,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
         },
         walls: vec![],
         rigid_bodies: vec![],
+        drainage: Default::default(),
         extra: Default::default(),
     }
 }

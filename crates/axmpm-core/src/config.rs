@@ -184,6 +184,10 @@ pub struct BodyConfig {
     /// Lateral earth-pressure ratio for geostatic stress; `None` = ν/(1−ν).
     #[serde(default)]
     pub k0: Option<f64>,
+    /// Saturated with pore water (two-phase; `solver::saturated`); `None`: a dry or
+    /// total-stress body, computed exactly as without this key.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub saturated: Option<SaturatedConfig>,
     /// The region the body fills: `shape` (default "rectangle") and the shape's own keys
     /// (rectangle: `min`, `max`), read by [`crate::geometry::build`].
     #[serde(flatten)]
@@ -201,6 +205,7 @@ impl BodyConfig {
             velocity: [0.0; 2],
             initial_stress: default_initial_stress(),
             k0: None,
+            saturated: None,
             region: crate::geometry::rectangle::table(min, max),
         }
     }
@@ -301,6 +306,9 @@ pub struct Config {
     /// `name`, the region keys (`shape`, ...), `velocity` or `motion`, `friction`.
     #[serde(default)]
     pub rigid_bodies: Vec<serde_json::Map<String, serde_json::Value>>,
+    /// Which grid faces let the pore water out (saturated bodies only; `solver::saturated`).
+    #[serde(default, skip_serializing_if = "DrainageConfig::is_default")]
+    pub drainage: DrainageConfig,
     /// Any other top-level sections the front end keeps (output, analysis, ...).
     #[serde(flatten)]
     pub extra: serde_json::Map<String, serde_json::Value>,
@@ -364,6 +372,139 @@ impl Config {
         if self.bodies.is_empty() {
             return Err("bodies: at least one body is needed".into());
         }
+        validate_saturated(self)?;
         Ok(())
     }
 }
+
+// --------------------------------------------------------------------------- saturated soil
+
+fn default_water_bulk_modulus() -> f64 {
+    2.2e9
+}
+fn default_water_density() -> f64 {
+    1000.0
+}
+
+/// A body's `saturated` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SaturatedConfig {
+    /// Initial porosity n, in (0, 1).
+    pub porosity: f64,
+    /// Hydraulic conductivity k, m/s (> 0).
+    pub hydraulic_conductivity: f64,
+    /// Bulk modulus of the pore water K_w, Pa (> 0).
+    #[serde(default = "default_water_bulk_modulus")]
+    pub water_bulk_modulus: f64,
+    /// Density of the pore water ρ_w, kg/m³ (> 0).
+    #[serde(default = "default_water_density")]
+    pub water_density: f64,
+    /// Initial pore pressure hydrostatic below this height (m): p = ρ_w |g_y| (z_w − y), 0 above.
+    #[serde(default)]
+    pub water_table: Option<f64>,
+    /// Initial pore pressure, uniform (Pa); used when `water_table` is not given (default 0).
+    #[serde(default)]
+    pub pore_pressure: Option<f64>,
+    /// A uniform pressure (Pa, ≥ 0) on the body's top surface, carried by its top row of
+    /// particles from t = 0 on (the load of a consolidation test).
+    #[serde(default)]
+    pub surface_load: f64,
+}
+
+/// What a grid face does to the pore water.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Drainage {
+    /// p = 0: the water leaves freely.
+    Drained,
+    /// No flow through the face: the water's normal velocity is the solid's.
+    Impermeable,
+}
+
+/// The `drainage` table: one [`Drainage`] per grid face. A face not given is impermeable when
+/// it supports the solid (roller, fixed, friction) and drained when free. The symmetry axis
+/// and the walls are always impermeable.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DrainageConfig {
+    #[serde(default)]
+    pub left: Option<Drainage>,
+    #[serde(default)]
+    pub right: Option<Drainage>,
+    #[serde(default)]
+    pub bottom: Option<Drainage>,
+    #[serde(default)]
+    pub top: Option<Drainage>,
+}
+
+impl DrainageConfig {
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The drainage of each face [left, right, bottom, top], the defaults resolved.
+    pub fn resolve(&self, faces: &BoundariesConfig) -> [Drainage; 4] {
+        let default = |c: Condition| if c == Condition::Free { Drainage::Drained } else { Drainage::Impermeable };
+        [
+            self.left.unwrap_or(default(faces.left.condition)),
+            self.right.unwrap_or(default(faces.right.condition)),
+            self.bottom.unwrap_or(default(faces.bottom.condition)),
+            self.top.unwrap_or(default(faces.top.condition)),
+        ]
+    }
+}
+
+/// Range checks of the `saturated` tables, naming the key; one pore water per run.
+fn validate_saturated(config: &Config) -> Result<(), String> {
+    let mut water: Option<(f64, f64)> = None;
+    let g = &config.grid;
+    for (i, b) in config.bodies.iter().enumerate() {
+        let Some(s) = &b.saturated else { continue };
+        let key = |k: &str| format!("bodies[{i}].saturated.{k}");
+        if !(s.porosity > 0.0 && s.porosity < 1.0) {
+            return Err(format!("{} must be in (0, 1) (got {})", key("porosity"), s.porosity));
+        }
+        if !(s.hydraulic_conductivity > 0.0 && s.hydraulic_conductivity.is_finite()) {
+            return Err(format!("{} must be > 0 m/s (got {})", key("hydraulic_conductivity"), s.hydraulic_conductivity));
+        }
+        if !(s.water_bulk_modulus > 0.0 && s.water_bulk_modulus.is_finite()) {
+            return Err(format!("{} must be > 0 Pa (got {})", key("water_bulk_modulus"), s.water_bulk_modulus));
+        }
+        if !(s.water_density > 0.0 && s.water_density.is_finite()) {
+            return Err(format!("{} must be > 0 kg/m³ (got {})", key("water_density"), s.water_density));
+        }
+        if let Some(z) = s.water_table {
+            let (lo, hi) = (g.origin[1], g.origin[1] + g.extent[1]);
+            if !(z >= lo && z <= hi) {
+                return Err(format!("{} must lie inside the grid, in [{lo}, {hi}] (got {z})", key("water_table")));
+            }
+            if s.pore_pressure.is_some() {
+                return Err(format!("{}: give either water_table or pore_pressure, not both", key("pore_pressure")));
+            }
+        }
+        if let Some(p) = s.pore_pressure {
+            if !p.is_finite() {
+                return Err(format!("{} must be finite (got {p})", key("pore_pressure")));
+            }
+        }
+        if !(s.surface_load >= 0.0 && s.surface_load.is_finite()) {
+            return Err(format!("{} must be >= 0 Pa (got {})", key("surface_load"), s.surface_load));
+        }
+        match water {
+            None => water = Some((s.water_bulk_modulus, s.water_density)),
+            Some(w) if w != (s.water_bulk_modulus, s.water_density) => {
+                return Err(format!(
+                    "{}, {}: every saturated body holds the same pore water (got K_w, ρ_w = {:?} and {:?})",
+                    key("water_bulk_modulus"),
+                    key("water_density"),
+                    w,
+                    (s.water_bulk_modulus, s.water_density)
+                ))
+            }
+            Some(_) => {}
+        }
+    }
+    Ok(())
+}
+

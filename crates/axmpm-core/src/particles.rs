@@ -39,6 +39,24 @@ pub struct Particles {
     /// existed (then the ids are the indices).
     #[serde(default)]
     pub id: Vec<u32>,
+    /// Saturated runs only (`solver::saturated`; empty otherwise, and 0 / 0 for the
+    /// particles of a dry body in a saturated run): pore pressure p (Pa, positive in
+    /// compression; `stress` is then the effective stress σ′, the total being σ′ − p I) ...
+    #[serde(default)]
+    pub pore_pressure: Vec<f64>,
+    /// ... porosity n (updated with the volume, the grains incompressible) ...
+    #[serde(default)]
+    pub porosity: Vec<f64>,
+    /// ... the pore water's velocity w (m/s) ...
+    #[serde(default)]
+    pub water_velocity: Vec<[f64; 2]>,
+    /// ... the hydraulic conductivity k (m/s) ...
+    #[serde(default)]
+    pub hydraulic_conductivity: Vec<f64>,
+    /// ... and a prescribed external force on the particle (N per metre or per radian): a
+    /// surface load carried by the body's top row of particles.
+    #[serde(default)]
+    pub external_force: Vec<[f64; 2]>,
 }
 
 impl Particles {
@@ -105,6 +123,11 @@ impl Particles {
         self.corners.shrink_to_fit();
         self.state.shrink_to_fit();
         self.id.shrink_to_fit();
+        self.pore_pressure.shrink_to_fit();
+        self.porosity.shrink_to_fit();
+        self.water_velocity.shrink_to_fit();
+        self.hydraulic_conductivity.shrink_to_fit();
+        self.external_force.shrink_to_fit();
     }
 
     /// Gives particles without ids (an older checkpoint) the ids 0, 1, 2, ...
@@ -146,6 +169,11 @@ impl Particles {
         gather(&mut self.initial_half_width, order, parallel);
         gather(&mut self.corners, order, parallel);
         gather(&mut self.id, order, parallel);
+        gather(&mut self.pore_pressure, order, parallel);
+        gather(&mut self.porosity, order, parallel);
+        gather(&mut self.water_velocity, order, parallel);
+        gather(&mut self.hydraulic_conductivity, order, parallel);
+        gather(&mut self.external_force, order, parallel);
         let stride = self.state_stride;
         if stride > 0 && self.state.len() == order.len() * stride {
             let mut state = vec![0.0; self.state.len()];
@@ -215,7 +243,9 @@ impl Particles {
             + self.initial_half_width.capacity() * 2 * f
             + self.corners.capacity() * 8 * f
             + self.state.capacity() * f
-            + self.id.capacity() * 4;
+            + self.id.capacity() * 4
+            + (self.pore_pressure.capacity() + self.porosity.capacity() + self.hydraulic_conductivity.capacity()) * f
+            + (self.water_velocity.capacity() + self.external_force.capacity()) * 2 * f;
         total / n
     }
 }

@@ -22,7 +22,9 @@ pub fn create_particles<F: Formulation>(
 ) -> Result<Particles, String> {
     let mut particles = Particles { state_stride, ..Default::default() };
     let rigid_bodies = rigid_bodies(config)?;
+    let mut ranges = Vec::with_capacity(config.bodies.len());
     for (i, body) in config.bodies.iter().enumerate() {
+        let first = particles.len();
         let context = format!("bodies[{i}]");
         let region = geometry::build(&context, &body.region)?;
         let id = material_names.iter().position(|n| *n == body.material).expect("validated material name");
@@ -38,7 +40,10 @@ pub fn create_particles<F: Formulation>(
         let mut keep = |x: [f64; 2]| !rigid_bodies.iter().any(|b| b.contains(x, 0.0));
         let gravity = config.simulation.gravity;
         add_body::<F>(&mut particles, body, region.as_ref(), grid, materials[id].as_ref(), id as u32, k0, gravity, &mut keep);
+        ranges.push(first..particles.len());
     }
+    // Saturated bodies: porosity, pore pressure, solid mass (nothing for a dry run).
+    saturate::<F>(config, &mut particles, &ranges);
     if with_corners {
         particles.corners = (0..particles.len())
             .map(|p| Particles::rectangle_corners(particles.position[p], particles.initial_half_width[p]))
@@ -89,3 +94,59 @@ pub fn rigid_bodies(config: &Config) -> Result<Vec<crate::constraint::RigidBody>
     let axisymmetric = config.simulation.formulation == crate::config::FormulationKind::Axisymmetric;
     crate::constraint::rigid_body::build_all(&config.rigid_bodies, g.origin, upper, axisymmetric)
 }
+
+/// Gives the particles of the saturated bodies (`bodies[i]` made the particles `ranges[i]`)
+/// their water: porosity, conductivity, initial pore pressure, the solid mass (1 − n) ρ_s V
+/// (the material's density is the grains'), the effective geostatic stress and the surface
+/// load. Allocates the water arrays for every particle (dry bodies get n = 0).
+fn saturate<F: Formulation>(config: &Config, particles: &mut Particles, ranges: &[std::ops::Range<usize>]) {
+    if !config.bodies.iter().any(|b| b.saturated.is_some()) {
+        return;
+    }
+    let n_particles = particles.len();
+    particles.pore_pressure = vec![0.0; n_particles];
+    particles.porosity = vec![0.0; n_particles];
+    particles.water_velocity = vec![[0.0; 2]; n_particles];
+    particles.hydraulic_conductivity = vec![0.0; n_particles];
+    particles.external_force = vec![[0.0; 2]; n_particles];
+    let gravity_y = config.simulation.gravity[1];
+    for (body, range) in config.bodies.iter().zip(ranges) {
+        let Some(s) = &body.saturated else { continue };
+        let n = s.porosity;
+        let rho_s = Parameters::new(&body.material, &config.materials[&body.material].parameters)
+            .f64("density")
+            .unwrap_or(0.0);
+        let rho_sat = (1.0 - n) * rho_s + n * s.water_density;
+        let spacing = config.grid.cell_size / body.particles_per_cell.max(1) as f64;
+        let top = range.clone().map(|p| particles.position[p][1]).fold(f64::NEG_INFINITY, f64::max);
+        for p in range.clone() {
+            let x = particles.position[p];
+            particles.porosity[p] = n;
+            particles.hydraulic_conductivity[p] = s.hydraulic_conductivity;
+            particles.mass[p] *= 1.0 - n;
+            let pressure = match (s.water_table, s.pore_pressure) {
+                (Some(z), _) => s.water_density * (-gravity_y) * (z - x[1]).max(0.0),
+                (None, Some(p0)) => p0,
+                (None, None) => 0.0,
+            };
+            particles.pore_pressure[p] = pressure;
+            if body.initial_stress == crate::config::InitialStress::Geostatic {
+                // The set-up's total geostatic stress of the grains' density, made effective:
+                // σ′_v = ρ_sat g_y d + p, the lateral components in the same ratio K0.
+                let stress = &mut particles.stress[p];
+                if stress[1] != 0.0 {
+                    let vertical = stress[1] * rho_sat / rho_s + pressure;
+                    let scale = vertical / stress[1];
+                    for c in stress.iter_mut() {
+                        *c *= scale;
+                    }
+                }
+            }
+            // The top row of particles carries the surface load: q times its width (× R_p).
+            if s.surface_load > 0.0 && x[1] > top - 0.5 * spacing {
+                particles.external_force[p] = [0.0, -s.surface_load * spacing * F::volume_factor(x)];
+            }
+        }
+    }
+}
+

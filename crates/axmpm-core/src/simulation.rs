@@ -122,27 +122,28 @@ struct Scheme {
 }
 
 impl Scheme {
-    fn of<F: Formulation, S: ShapeFunction>() -> Self {
+    fn of<F: Formulation, S: ShapeFunction>(saturated: bool) -> Self {
         Self {
-            step: solver::step::<F, S>,
+            step: if saturated { solver::saturated::step::<F, S> } else { solver::step::<F, S> },
             allocate_cache: solver::allocate_stencil_cache::<S>,
             uses_corners: S::USES_CORNERS,
             cache_bytes: std::mem::size_of::<S::Cache>(),
         }
     }
 
-    fn select(formulation: FormulationKind, shape: ShapeFunctionKind) -> Self {
-        fn pick<F: Formulation>(shape: ShapeFunctionKind) -> Scheme {
+    /// `saturated`: the two-phase step ([`solver::saturated`]) instead of the dry one.
+    fn select(formulation: FormulationKind, shape: ShapeFunctionKind, saturated: bool) -> Self {
+        fn pick<F: Formulation>(shape: ShapeFunctionKind, saturated: bool) -> Scheme {
             match shape {
-                ShapeFunctionKind::Linear => Scheme::of::<F, Linear>(),
-                ShapeFunctionKind::Ugimp => Scheme::of::<F, UGimp>(),
-                ShapeFunctionKind::Cpgimp => Scheme::of::<F, CpGimp>(),
-                ShapeFunctionKind::Cpdi2 => Scheme::of::<F, Cpdi2>(),
+                ShapeFunctionKind::Linear => Scheme::of::<F, Linear>(saturated),
+                ShapeFunctionKind::Ugimp => Scheme::of::<F, UGimp>(saturated),
+                ShapeFunctionKind::Cpgimp => Scheme::of::<F, CpGimp>(saturated),
+                ShapeFunctionKind::Cpdi2 => Scheme::of::<F, Cpdi2>(saturated),
             }
         }
         match formulation {
-            FormulationKind::PlaneStrain => pick::<PlaneStrain>(shape),
-            FormulationKind::Axisymmetric => pick::<Axisymmetric>(shape),
+            FormulationKind::PlaneStrain => pick::<PlaneStrain>(shape, saturated),
+            FormulationKind::Axisymmetric => pick::<Axisymmetric>(shape, saturated),
         }
     }
 }
@@ -233,7 +234,8 @@ impl Simulation {
         let grid = GridGeometry::new(g.origin, g.extent, g.cell_size);
         let s = &config.simulation;
         let axisymmetric = s.formulation == FormulationKind::Axisymmetric;
-        let scheme = Scheme::select(s.formulation, s.shape_function);
+        let saturated = solver::saturated::is_saturated(&config);
+        let scheme = Scheme::select(s.formulation, s.shape_function, saturated);
         let with_corners = scheme.uses_corners;
         let (mut particles, time, steps, tiles) = match restored {
             Some(r) => r,
@@ -268,6 +270,8 @@ impl Simulation {
             .filter(|(_, &u)| u)
             .map(|(m, _)| m.wave_speed())
             .fold(0.0_f64, f64::max);
+        // A saturated body's undrained wave (0 in a dry run: the step is the dry one).
+        let wave_speed = wave_speed.max(solver::saturated::wave_speed(&config, &materials));
         let dt = if s.time_step > 0.0 { s.time_step } else { s.cfl * g.cell_size / wave_speed };
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(format!("time step {dt} is not positive; check the materials' stiffness and density"));
@@ -297,7 +301,9 @@ impl Simulation {
         for body in crate::setup::rigid_bodies(&config)? {
             constraints.push(Box::new(body.with_reach(reach)));
         }
+        let water = solver::saturated::WaterState::new(&config, &grid, &particles);
         let mut state = State {
+            water,
             grid,
             fields: GridFields::new(grid.num_nodes()),
             tiles,

@@ -39,6 +39,7 @@ pub fn block(
         boundaries: BoundariesConfig::default(),
         walls: vec![],
         rigid_bodies: vec![],
+        drainage: Default::default(),
         extra: Default::default(),
     }
 }

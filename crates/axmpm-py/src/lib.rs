@@ -121,6 +121,20 @@ impl PySimulation {
         let n = v.len();
         rows(py, v.iter().map(|c| [c[0][0], c[0][1], c[1][0], c[1][1], c[2][0], c[2][1], c[3][0], c[3][1]]), n)
     }
+    /// (N,) pore pressure, Pa, positive in compression (saturated runs; empty otherwise).
+    fn pore_pressures<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        self.inner.particle_values(|p| &p.pore_pressure).into_pyarray(py)
+    }
+    /// (N,) porosity (saturated runs; empty otherwise).
+    fn porosities<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
+        self.inner.particle_values(|p| &p.porosity).into_pyarray(py)
+    }
+    /// (N, 2) pore water velocity, m/s (saturated runs; empty otherwise).
+    fn water_velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let v = self.inner.particle_values(|p| &p.water_velocity);
+        let n = v.len();
+        rows(py, v.into_iter(), n)
+    }
     fn volumes<'py>(&self, py: Python<'py>) -> Bound<'py, numpy::PyArray1<f64>> {
         self.inner.particle_values(|p| &p.volume).into_pyarray(py)
     }

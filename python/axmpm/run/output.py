@@ -136,6 +136,11 @@ class FrameData:
     F: NDArray[np.float64]  # (N, 5) [F11, F12, F21, F22, F33]
     state: NDArray[np.float64]  # (N, S)
     state_names: list[str] = field(default_factory=list)
+    # Saturated runs only (empty otherwise): pore pressure (Pa, compression positive),
+    # porosity and the pore water's velocity (m/s); ``stress`` is then the effective stress.
+    pore_pressure: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    porosity: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
+    water_velocity: NDArray[np.float64] = field(default_factory=lambda: np.zeros((0, 2)))
 
     @property
     def displacement(self) -> NDArray[np.float64]:
@@ -169,10 +174,13 @@ class FrameData:
             F=np.asarray(sim.deformation_gradients(), dtype=float),
             state=state,
             state_names=state_names,
+            **{name: np.asarray(getattr(sim, method)(), dtype=float) for name, method in _WATER_METHODS.items()},
         )
 
 
 _ARRAYS = ("x", "v", "stress", "X0", "volume", "volume0", "mass", "material_id", "F", "state")
+#: The saturated runs' arrays and the engine methods that give them (written when not empty).
+_WATER_METHODS = {"pore_pressure": "pore_pressures", "porosity": "porosities", "water_velocity": "water_velocities"}
 
 
 def frame_stem(index: int) -> str:
@@ -254,6 +262,7 @@ def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -
     npz = frames / f"{stem}.npz"
     tmp_npz = frames / f".{stem}.tmp{os.getpid()}.npz"
     arrays = {name: getattr(frame, name) for name in _ARRAYS}
+    arrays.update({name: getattr(frame, name) for name in _WATER_METHODS if len(getattr(frame, name))})
     with writing(npz):
         np.savez(
             tmp_npz,
@@ -285,6 +294,10 @@ def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -
         data[name] = np.ascontiguousarray(frame.F[:, j])
     for j, name in enumerate(frame.state_names):
         data[f"state_{name}"] = np.ascontiguousarray(frame.state[:, j])
+    if len(frame.pore_pressure):
+        data["pore_pressure"] = np.ascontiguousarray(frame.pore_pressure)
+        data["porosity"] = np.ascontiguousarray(frame.porosity)
+        data["water_velocity"] = vec(frame.water_velocity)
 
     tmp_stem = frames / f".{stem}.tmp{os.getpid()}"
     vtu = frames / f"{stem}.vtu"
@@ -531,6 +544,7 @@ class Frame:
                 steps=int(z["steps"]),
                 state_names=[str(s) for s in z["state_names"]],
                 **{name: z[name] for name in _ARRAYS},
+                **{name: z[name] for name in _WATER_METHODS if name in z.files},
             )
 
     def __getattr__(self, name: str) -> Any:

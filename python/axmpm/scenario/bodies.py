@@ -13,6 +13,7 @@ from typing import Any, Literal
 from pydantic import Field
 
 from .fields import GRID_TOLERANCE, NonNegative, Section, Vec2, bounded, fmt
+from .saturated import Saturated
 
 __all__ = ["BodyHead", "BodyKeys", "Region", "GridFrame", "body_class", "overlaps"]
 
@@ -50,6 +51,9 @@ class BodyKeys(Section):
         strict=True,
         description="true: this body may overlap other bodies (particles are then superposed, "
         "adding mass); false: an overlap with another body that does not allow it is an error",
+    )
+    saturated: Saturated | None = Field(
+        None, description="pore water (two-phase saturated soil); absent: a dry or total-stress body"
     )
 
 

@@ -27,6 +27,7 @@ from .materials import material_type
 from .messages import convert_errors
 from .regions import body_type
 from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
+from .saturated import Drainage, saturated_errors
 from .sections import Grid, Simulation
 
 __all__ = ["Scenario", "Material", "Body", "schema_json"]
@@ -47,6 +48,7 @@ class Scenario(Section):
     boundaries: Boundaries = Field(default_factory=Boundaries)
     walls: list[Wall] = Field(default_factory=list)
     rigid_bodies: list[RigidBody] = Field(default_factory=list)
+    drainage: Drainage = Field(default_factory=Drainage)
 
     @model_validator(mode="after")
     def _cross_check(self) -> "Scenario":
@@ -222,6 +224,7 @@ def cross_check_parts(
                 seen_names.add(body.name)
             errors.extend(body.region_errors(key, frame))
         errors.extend(overlaps(bodies, grid.cell_size if grid is not None else None))
+        errors.extend(saturated_errors(bodies, grid if grid_ok else None))
 
     if sim is not None and sim.formulation == "axisymmetric":
         if grid is not None and abs(grid.origin[0]) > 1e-12 * grid.cell_size:  # the engine's own tolerance

@@ -27,6 +27,7 @@ pub mod grid_update;
 pub mod isa;
 pub mod particle_to_grid;
 pub mod particle_update;
+pub mod saturated;
 pub mod tiles;
 
 pub use isa::Isa;
@@ -123,6 +124,8 @@ pub struct State {
     pub steps: u64,
     /// Wall seconds spent in each phase since the start of the run.
     pub timings: PhaseTimings,
+    /// The pore water's nodal fields and scratch (saturated runs only, [`saturated`]).
+    pub water: Option<Box<saturated::WaterState>>,
 }
 
 /// Wall-clock seconds per phase of the step (for `axmpm bench`).

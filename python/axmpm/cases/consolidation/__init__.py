@@ -1,0 +1,369 @@
+"""``consolidation``: Terzaghi's one-dimensional consolidation of a saturated column, in plane
+strain and in axisymmetry, against the series solution (:mod:`.exact`; docs/verification.md
+"Consolidation").
+
+Scenario (:func:`column_scenario`): a column H = 1 m high and one cell wide of a linear elastic
+skeleton (E = 10 MPa, ν = 0, so E_oed = E; grains 2650 kg/m³) saturated with water (n = 0.4,
+K_w = 2.2 GPa, ρ_w = 1000 kg/m³, k = 1e-4 m/s: the consolidation time is then ~4000 periods of the column's undrained ringing after the step load, whose extra early drainage stays below 1e-3 in U), no gravity, base fixed and impermeable, sides
+rollers (impermeable), top free and drained under a surface load q = 10 kPa applied at t = 0.
+Plane strain: the column spans x = 0 … h next to a roller face and a roller wall.
+Axisymmetric: a ring r = 1 … 1 + h m between two roller walls, off the axis (the hoop terms are
+present, the flow stays one-dimensional). Linear shape functions, 2 × 2 particles per cell,
+MUSL, FLIP 0.99, the default time step (0.4 of the undrained wave's).
+
+Runs: both formulations at H/h = 10 and 20 (``--quick``: 10 only, at k = 1e-3 m/s), to T_v = 0.85 with a frame
+every ΔT_v = 0.0025; and ``undrained``: plane strain, H/h = 10, k = 1e-9 m/s and soft water
+(K_w = 20 MPa, so that u₀ = 0.833 q differs from q), ten periods of the column's undrained
+ringing, a frame every ten steps.
+
+Metrics: U = 1 − ⟨p⟩/u₀ (⟨p⟩ the volume-weighted mean over the particles) at the T_v of
+U = 0.2, 0.4, 0.5, 0.6, 0.8, 0.9 (linear interpolation between frames); the worst
+|p/u₀ − u(z)/u₀| over the particles at T_v = 0.05, 0.2, 0.5 (the frame nearest, z the particle's
+initial depth); for ``undrained``, the time average of ⟨p⟩ over the frames against u₀.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import Any
+
+from .. import RunSpec, register
+from ...study.report import DASH, fmt
+from . import exact
+
+HEIGHT = 1.0
+LOAD = 1.0e4
+SKELETON = {"model": "linear_elastic", "density": 2650.0, "youngs_modulus": 1.0e7, "poisson_ratio": 0.0}
+OEDOMETER_MODULUS = 1.0e7  # E (1 − ν)/((1 + ν)(1 − 2ν)) at ν = 0
+POROSITY = 0.4
+WATER_DENSITY = 1000.0
+WATER_BULK_MODULUS = 2.2e9
+CONDUCTIVITY = 1.0e-4
+#: The quick runs' k: ten times fewer steps; U(0.0314) then runs about 0.003 ahead (the early
+#: drainage of the ringing), well within the tolerance.
+QUICK_CONDUCTIVITY = 1.0e-3
+#: The undrained run: very low k and soft water.
+UNDRAINED_CONDUCTIVITY = 1.0e-9
+UNDRAINED_WATER_BULK_MODULUS = 2.0e7
+UNDRAINED_PERIODS = 10
+#: Inner radius of the axisymmetric ring, m.
+RING_RADIUS = 1.0
+MESHES = (10, 20)
+QUICK_MESHES = (10,)
+FORMULATIONS = ("plane_strain", "axisymmetric")
+#: T_v of U = 0.2, 0.4, 0.5, 0.6, 0.8, 0.9 (exact.time_factor_of_degree, rounded).
+DEGREE_TIME_FACTORS = (0.0314, 0.1257, 0.1967, 0.2864, 0.5672, 0.8481)
+ISOCHRONE_TIME_FACTORS = (0.05, 0.2, 0.5)
+FRAME_TIME_FACTOR = 0.0025
+END_TIME_FACTOR = 0.85
+#: Targets: U within 0.02 (absolute), isochrones within 0.03 u₀, the undrained share within 1 %.
+DEGREE_TOLERANCE = 0.02
+ISOCHRONE_TOLERANCE = 0.03
+UNDRAINED_TOLERANCE = 0.01
+
+
+def run_name(formulation: str, cells: int) -> str:
+    return f"{formulation}_n{cells:02d}"
+
+
+def run_specs(quick: bool = False) -> list[RunSpec]:
+    meshes = QUICK_MESHES if quick else MESHES
+    k = QUICK_CONDUCTIVITY if quick else CONDUCTIVITY
+    runs = [RunSpec(run_name(f, n), {"formulation": f, "cells": n, "kind": "consolidation", "conductivity": k})
+            for f in FORMULATIONS for n in meshes]
+    runs.append(RunSpec("undrained", {"formulation": "plane_strain", "cells": 10, "kind": "undrained"}))
+    return runs
+
+
+def water(kind: str, conductivity: float = CONDUCTIVITY) -> tuple[float, float]:
+    """(k, K_w) of a run kind."""
+    if kind == "undrained":
+        return UNDRAINED_CONDUCTIVITY, UNDRAINED_WATER_BULK_MODULUS
+    return conductivity, WATER_BULK_MODULUS
+
+
+def consolidation_coefficient(kind: str, conductivity: float = CONDUCTIVITY) -> float:
+    k, k_w = water(kind, conductivity)
+    return exact.consolidation_coefficient(k, WATER_DENSITY, POROSITY, k_w, OEDOMETER_MODULUS)
+
+
+def undrained_wave_speed(k_w: float) -> float:
+    rho_sat = (1.0 - POROSITY) * SKELETON["density"] + POROSITY * WATER_DENSITY
+    return math.sqrt((OEDOMETER_MODULUS + k_w / POROSITY) / rho_sat)
+
+
+def column_scenario(formulation: str, cells: int, kind: str = "consolidation", conductivity: float = CONDUCTIVITY,
+                    *, as_dict: bool = False) -> Any:
+    """The scenario of one run (module doc)."""
+    h = HEIGHT / cells
+    k, k_w = water(kind, conductivity)
+    axisymmetric = formulation == "axisymmetric"
+    x0 = RING_RADIUS if axisymmetric else 0.0
+    if kind == "undrained":
+        period = 4.0 * HEIGHT / undrained_wave_speed(k_w)
+        end_time = UNDRAINED_PERIODS * period
+        dt = 0.4 * h / undrained_wave_speed(k_w)
+        output_interval = end_time / round(end_time / (10 * dt))
+    else:
+        time_scale = HEIGHT**2 / consolidation_coefficient(kind, conductivity)
+        end_time = END_TIME_FACTOR * time_scale
+        output_interval = FRAME_TIME_FACTOR * time_scale
+    walls = [{"axis": "x", "position": x0 + h, "material_side": "negative", "condition": "roller"}]
+    if axisymmetric:
+        walls.insert(0, {"axis": "x", "position": x0, "material_side": "positive", "condition": "roller"})
+    data = {
+        "simulation": {
+            "formulation": formulation,
+            "shape_function": "linear",
+            "end_time": end_time,
+            "output_interval": output_interval,
+            "gravity": [0.0, 0.0],
+            "flip_fraction": 0.99,
+            "update_scheme": "musl",
+        },
+        "grid": {"origin": [0.0, 0.0], "extent": [x0 + 3 * h, HEIGHT + 2 * h], "cell_size": h},
+        "materials": {"skeleton": dict(SKELETON)},
+        "bodies": [{
+            "name": "soil",
+            "material": "skeleton",
+            "min": [x0, 0.0],
+            "max": [x0 + h, HEIGHT],
+            "particles_per_cell": 2,
+            "saturated": {
+                "porosity": POROSITY,
+                "hydraulic_conductivity": k,
+                "water_bulk_modulus": k_w,
+                "water_density": WATER_DENSITY,
+                "surface_load": LOAD,
+            },
+        }],
+        # Base fixed and impermeable, sides rollers and impermeable, top free and drained (the
+        # faces' defaults).
+        "boundaries": {"left": "roller", "right": "free", "bottom": "fixed", "top": "free"},
+        "walls": walls,
+    }
+    if as_dict:
+        return data
+    from ...scenario import Scenario
+
+    return Scenario.from_dict(data, source=f"consolidation {run_name(formulation, cells)}")
+
+
+def _mean_pressure(frame: Any) -> float:
+    return float((frame.pore_pressure * frame.volume).sum() / frame.volume.sum())
+
+
+def run_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
+    """The metrics of a run folder (module doc; None values when it has no frame)."""
+    import numpy as np
+
+    from ...run.output import load_run
+
+    kind = run.params["kind"]
+    k_w = water(kind)[1]
+    u0 = exact.undrained_pressure(LOAD, POROSITY, k_w, OEDOMETER_MODULUS)
+    try:
+        frames = load_run(run_dir).frames
+        times = np.array([f.time for f in frames])
+        means = np.array([_mean_pressure(f) for f in frames])
+    except Exception:  # noqa: BLE001 - a failed run without frames
+        frames, times, means = [], np.zeros(0), np.zeros(0)
+    if kind == "undrained":
+        if len(frames) < 2:
+            return {"undrained_ratio": None}
+        # Frames at t > 0: whole periods of the ringing.
+        ratio = float(means[times > 0].mean() / u0)
+        return {"undrained_ratio": ratio, "undrained_error": abs(ratio - 1.0), "u0": u0}
+    cv = consolidation_coefficient(kind, run.params["conductivity"])
+    tv = times * cv / HEIGHT**2
+    out: dict[str, Any] = {"u0": u0}
+    if len(frames) < 2 or tv[-1] < max(DEGREE_TIME_FACTORS):
+        out.update({"degree_error": None, "isochrone_error": None})
+        return out
+    degree = 1.0 - means / u0
+    errors = []
+    for t in DEGREE_TIME_FACTORS:
+        u = float(np.interp(t, tv, degree))
+        out[f"U_{t:g}"] = u
+        errors.append(abs(u - exact.degree(t)))
+    out["degree_error"] = max(errors)
+    worst = 0.0
+    h = HEIGHT / run.params["cells"]
+    for t in ISOCHRONE_TIME_FACTORS:
+        frame = frames[int(np.argmin(abs(tv - t)))]
+        t_frame = float(frame.time * cv / HEIGHT**2)
+        # The pressure increment is averaged over each cell: the pressure is the cell's (as in a
+        # constant-pressure element), compared with u at the centre of the particle's cell.
+        centre = (np.floor(frame.x[:, 1] / h) + 0.5) * h
+        depth = (HEIGHT - centre) / HEIGHT
+        e = float(np.max(np.abs(frame.pore_pressure / u0 - exact.pressure(depth, t_frame))))
+        out[f"isochrone_error_{t:g}"] = e
+        worst = max(worst, e)
+    out["isochrone_error"] = worst
+    out["cell_size"] = HEIGHT / run.params["cells"]
+    return out
+
+
+def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[dict[str, Any]]:
+    checks: list[dict[str, Any]] = []
+    for r in results:
+        if r.get("kind") == "undrained":
+            e = r.get("undrained_error")
+            checks.append({"name": f"{r['run']}: time-averaged ⟨p⟩/u₀ within {UNDRAINED_TOLERANCE:.0%}",
+                           "passed": e is not None and e <= UNDRAINED_TOLERANCE,
+                           "detail": f"⟨p⟩/u₀ = {fmt(r.get('undrained_ratio'), '.4f')}"})
+            continue
+        e = r.get("degree_error")
+        checks.append({"name": f"{r['run']}: U within {DEGREE_TOLERANCE} at every T_v",
+                       "passed": e is not None and e <= DEGREE_TOLERANCE, "detail": f"max |ΔU| = {fmt(e, '.4f')}"})
+        e = r.get("isochrone_error")
+        checks.append({"name": f"{r['run']}: isochrones within {ISOCHRONE_TOLERANCE} u₀",
+                       "passed": e is not None and e <= ISOCHRONE_TOLERANCE,
+                       "detail": f"max |Δu|/u₀ = {fmt(e, '.4f')}"})
+    if not quick:
+        for f in FORMULATIONS:
+            group = sorted((r for r in results if r.get("formulation") == f and r.get("kind") == "consolidation"),
+                           key=lambda r: r["cells"])
+            errors = [r.get("degree_error") for r in group]
+            if len(group) >= 2 and None not in errors:
+                checks.append({"name": f"{f}: the U error shrinks with the mesh",
+                               "passed": errors[-1] < errors[0],
+                               "detail": ", ".join(f"H/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
+    return checks
+
+
+def results_table(results: list[dict[str, Any]]) -> str:
+    head = "| run | H/h | " + " | ".join(f"U({t:g})" for t in DEGREE_TIME_FACTORS) + " | max ΔU | isochrones max Δu/u₀ |"
+    rows = [head, "|" + "---|" * (len(DEGREE_TIME_FACTORS) + 4)]
+    exact_row = "| Terzaghi | | " + " | ".join(f"{exact.degree(t):.4f}" for t in DEGREE_TIME_FACTORS) + " | | |"
+    rows.append(exact_row)
+    for r in results:
+        if r.get("kind") != "consolidation":
+            continue
+        cells = " | ".join(fmt(r.get(f"U_{t:g}"), ".4f") for t in DEGREE_TIME_FACTORS)
+        rows.append(f"| {r['run']} | {r['cells']} | {cells} | {fmt(r.get('degree_error'), '.4f')} | "
+                    f"{fmt(r.get('isochrone_error'), '.4f')} |")
+    for r in results:
+        if r.get("kind") == "undrained":
+            rows.append(f"\nUndrained (k = {UNDRAINED_CONDUCTIVITY:g} m/s, K_w = {UNDRAINED_WATER_BULK_MODULUS:g} Pa): "
+                        f"time-averaged ⟨p⟩/u₀ = {fmt(r.get('undrained_ratio'), '.4f')}, "
+                        f"u₀/q = {fmt((r.get('u0') or math.nan) / LOAD, '.4f')}")
+    return "\n".join(rows)
+
+
+def plot(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
+    """U against T_v and the isochrones of the finest runs against the closed form."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        import numpy as np
+
+        from ...run.output import load_run
+    except ImportError:  # pragma: no cover
+        return False
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+    tv = np.linspace(1e-4, END_TIME_FACTOR, 400)
+    a.plot(tv, [exact.degree(t) for t in tv], "k-", label="Terzaghi")
+    z = np.linspace(0, 1, 200)
+    for t in ISOCHRONE_TIME_FACTORS:
+        b.plot(exact.pressure(z, t), z, "k-", lw=1)
+    for r in results:
+        if r.get("kind") != "consolidation" or r.get("status") != "completed":
+            continue
+        frames = load_run(base / r["run_dir"]).frames
+        u0 = r["u0"]
+        cv = consolidation_coefficient("consolidation", r["conductivity"])
+        t = np.array([f.time for f in frames]) * cv / HEIGHT**2
+        a.plot(t, [1 - _mean_pressure(f) / u0 for f in frames], "--", label=r["run"])
+        for tt in ISOCHRONE_TIME_FACTORS:
+            f = frames[int(np.argmin(abs(t - tt)))]
+            b.plot(f.pore_pressure / u0, (HEIGHT - f.X0[:, 1]) / HEIGHT, ".", ms=2)
+    a.set_xlabel("T_v")
+    a.set_ylabel("U")
+    a.legend(fontsize=7)
+    b.set_xlabel("u/u₀")
+    b.set_ylabel("z/H (depth below the drained top)")
+    b.invert_yaxis()
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return True
+
+
+class Consolidation:
+    """Terzaghi consolidation of a saturated column (two-phase v–w), plane strain and axisymmetric."""
+
+    name = "consolidation"
+    kind = "verification"
+    title = "Terzaghi one-dimensional consolidation (saturated two-phase soil)"
+    default = False
+
+    def add_options(self, parser: argparse.ArgumentParser) -> None:
+        pass
+
+    def runs(self, options: argparse.Namespace) -> list[RunSpec]:
+        return run_specs(bool(getattr(options, "quick", False)))
+
+    def scenario(self, run: RunSpec) -> Any:
+        p = run.params
+        return column_scenario(p["formulation"], p["cells"], p["kind"], p.get("conductivity", CONDUCTIVITY))
+
+    def reference(self, run: RunSpec) -> dict[str, Any]:
+        if run.params["kind"] == "undrained":
+            return {"undrained_ratio": 1.0}
+        return {f"U_{t:g}": exact.degree(t) for t in DEGREE_TIME_FACTORS}
+
+    def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
+        return run_metrics(run, run_dir)
+
+    def cost(self, run: RunSpec) -> float:
+        p = run.params
+        return float(p["cells"] ** 2 / p["conductivity"]) if p["kind"] == "consolidation" else 1.0
+
+    def progress(self, record: dict[str, Any]) -> str:
+        if record.get("status") != "completed":
+            return f"{record.get('status')}: {record.get('message', '')}"
+        if record.get("kind") == "undrained":
+            return f"⟨p⟩/u₀ {fmt(record.get('undrained_ratio'), '.4f')}"
+        return (f"max |ΔU| {fmt(record.get('degree_error'), '.4f')}, isochrones "
+                f"{fmt(record.get('isochrone_error'), '.4f')}")
+
+    def checks(self, results: list[dict[str, Any]]) -> list[dict[str, Any]]:
+        quick = bool(getattr(results, "context", {}).get("quick", False))
+        return evaluate_checks(results, quick=quick)
+
+    def document(self, results: list[dict[str, Any]], options: argparse.Namespace) -> dict[str, Any]:
+        return {"height": HEIGHT, "load": LOAD, "skeleton": SKELETON, "porosity": POROSITY,
+                "water_density": WATER_DENSITY, "water_bulk_modulus": WATER_BULK_MODULUS,
+                "hydraulic_conductivity": CONDUCTIVITY, "consolidation_coefficient": consolidation_coefficient(
+                    "consolidation"), "degree_time_factors": DEGREE_TIME_FACTORS,
+                "isochrone_time_factors": ISOCHRONE_TIME_FACTORS,
+                "tolerances": {"degree": DEGREE_TOLERANCE, "isochrone": ISOCHRONE_TOLERANCE,
+                               "undrained": UNDRAINED_TOLERANCE}}
+
+    def console(self, results: list[dict[str, Any]], checks: list[dict[str, Any]]) -> str:
+        return results_table(results)
+
+    def report(self, results: list[dict[str, Any]], out: Path) -> str:
+        context = getattr(results, "context", {})
+        checks = context.get("checks") or evaluate_checks(results, bool(context.get("quick")))
+        lines = [f"## {self.title}", "",
+                 "Terzaghi's layer (H = 1 m, drained top, impermeable base, q = 10 kPa) as a one-cell column, "
+                 "against the series solution with compressible water "
+                 f"(k = {CONDUCTIVITY:g} m/s, c_v = {consolidation_coefficient('consolidation'):.4g} m²/s; "
+                 f"--quick: k = {QUICK_CONDUCTIVITY:g} m/s). U = 1 − ⟨p⟩/u₀; the isochrones are compared at the "
+                 "centres of the cells (the pressure is the cell's).", "",
+                 results_table(list(results)), "", "| check | passed | detail |", "|---|---|---|"]
+        lines += [f"| {c['name']} | {'yes' if c['passed'] else 'NO'} | {c.get('detail', DASH)} |" for c in checks]
+        figure = Path(out) / "figures" / "consolidation.png"
+        if context.get("figures", True) and plot(list(results), Path(out), figure):
+            lines += ["", f"![U against T_v and the isochrones]({figure.relative_to(Path(out))})"]
+        return "\n".join(lines) + "\n"
+
+
+CASE = register(Consolidation())

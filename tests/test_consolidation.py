@@ -1,0 +1,122 @@
+"""Saturated soil as the front end sees it: the ``consolidation`` case's quick run against
+Terzaghi, the closed form itself, frames with the pore pressure, and bad ``saturated`` input
+refused naming the key (exit 2 from the command line)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from axmpm.cases import consolidation, driver
+from axmpm.cases.consolidation import exact
+from axmpm.errors import ScenarioError
+from axmpm.scenario import Scenario
+
+from conftest import run_cli
+
+
+def test_closed_form_degree_and_isochrones() -> None:
+    # The tabulated T_v of U = 0.2 … 0.9 (Terzaghi's table) are the series' own.
+    for u, tv in zip((0.2, 0.4, 0.5, 0.6, 0.8, 0.9), consolidation.DEGREE_TIME_FACTORS):
+        assert abs(exact.degree(tv) - u) < 2e-4
+        assert abs(exact.time_factor_of_degree(u) - tv) < 1e-3 * tv
+    # U is the depth average of 1 − u/u₀ (midpoint rule over 2000 slices).
+    z = (np.arange(2000) + 0.5) / 2000
+    for tv in (0.01, 0.2, 1.0):
+        assert abs(1.0 - exact.pressure(z, tv).mean() - exact.degree(tv)) < 1e-6
+    # At the impermeable base (derived values of the reference: 0.997, 0.949, 0.772, 0.371, 0.108).
+    base = [exact.pressure(1.0, tv)[0] for tv in (0.05, 0.1, 0.2, 0.5, 1.0)]
+    assert np.allclose(base, [0.997, 0.949, 0.772, 0.371, 0.108], atol=6e-4)
+    # Drained top: u = 0; before any drainage (T_v → 0) u = u₀ inside.
+    assert abs(exact.pressure(0.0, 0.1)[0]) < 1e-12 and abs(exact.pressure(0.5, 1e-6)[0] - 1.0) < 1e-6
+    assert exact.undrained_pressure(1.0, 0.4, 2e7, 1e7) == pytest.approx(5.0 / 6.0)
+    assert exact.consolidation_coefficient(1e-3, 1000.0, 0.4, 2.2e9, 1e7) == pytest.approx(
+        1e-3 / (9810.0 * (1e-7 + 0.4 / 2.2e9)))
+
+
+def test_quick_run_meets_terzaghi(tmp_path: Path) -> None:
+    """H/h = 10 in both formulations and the undrained run (a few seconds)."""
+    options = argparse.Namespace(quick=True, overrides=[], figures=False)
+    data = driver.verify_or_validate("verification", [consolidation.CASE], options, tmp_path, jobs=1, log=None)
+    records = {r["name"]: r for r in data["cases"]}
+    assert set(records) == {"plane_strain_n10", "axisymmetric_n10", "undrained"}
+    for name in ("plane_strain_n10", "axisymmetric_n10"):
+        r = records[name]
+        assert r["status"] == "completed", r["message"]
+        assert r["degree_error"] < consolidation.DEGREE_TOLERANCE
+        assert r["isochrone_error"] < consolidation.ISOCHRONE_TOLERANCE
+    assert abs(records["undrained"]["undrained_ratio"] - 1.0) < consolidation.UNDRAINED_TOLERANCE
+    assert data["passed"] and all(c["passed"] for c in data["checks"])
+    # Frames carry the pore pressure, the porosity and the water velocity.
+    from axmpm.run.output import load_run
+
+    frame = load_run(tmp_path / records["plane_strain_n10"]["run_dir"]).last
+    assert frame.pore_pressure.shape == (len(frame.x),) and frame.water_velocity.shape == (len(frame.x), 2)
+    # The skeleton compressed: the porosity fell below its initial 0.4.
+    assert (frame.porosity < consolidation.POROSITY).all() and (frame.porosity > 0.3).all()
+
+
+def test_checks_fail_on_bad_records() -> None:
+    good = {"run": "a", "kind": "consolidation", "formulation": "plane_strain", "cells": 10,
+            "degree_error": 0.01, "isochrone_error": 0.02}
+    finer = dict(good, run="b", cells=20, degree_error=0.005)
+    assert all(c["passed"] for c in consolidation.evaluate_checks([good, finer]))
+    worse = dict(finer, degree_error=0.015)
+    assert not consolidation.evaluate_checks([good, worse])[-1]["passed"]
+    assert not consolidation.evaluate_checks([dict(good, degree_error=0.03)], quick=True)[0]["passed"]
+    assert not consolidation.evaluate_checks([dict(good, isochrone_error=None)], quick=True)[1]["passed"]
+    undrained = {"run": "undrained", "kind": "undrained", "undrained_ratio": 1.02, "undrained_error": 0.02}
+    assert not consolidation.evaluate_checks([undrained], quick=True)[0]["passed"]
+
+
+def _scenario(**saturated):
+    data = consolidation.column_scenario("plane_strain", 10, as_dict=True)
+    data["bodies"][0]["saturated"].update(saturated)
+    return data
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("porosity", 1.0, "must be > 0 and < 1"),
+    ("porosity", 0.0, "must be > 0 and < 1"),
+    ("hydraulic_conductivity", 0.0, "must be > 0"),
+    ("water_bulk_modulus", -1.0, "must be > 0"),
+    ("water_density", 0.0, "must be > 0"),
+    ("surface_load", -5.0, "must be >= 0"),
+    ("water_table", 5.0, "must lie inside the grid"),
+])
+def test_bad_saturated_input_names_the_key(key: str, value: float, message: str) -> None:
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(_scenario(**{key: value}))
+    text = str(info.value)
+    assert f"bodies.0.saturated.{key}" in text and message in text, text
+
+
+def test_one_pore_water_and_one_initial_pressure() -> None:
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(_scenario(water_table=0.5, pore_pressure=1e3))
+    assert "bodies.0.saturated.pore_pressure" in str(info.value)
+    data = _scenario()
+    second = dict(data["bodies"][0], name="other", min=[0.0, 1.0], max=[0.1, 1.1])
+    second["saturated"] = dict(second["saturated"], water_bulk_modulus=1e9)
+    data["bodies"].append(second)
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(data)
+    assert "bodies.1.saturated.water_bulk_modulus" in str(info.value)
+    bad = _scenario()
+    bad["drainage"] = {"top": "leaky"}
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(bad)
+    assert "drainage.top" in str(info.value)
+
+
+def test_command_line_exits_2_naming_the_key(tmp_path: Path) -> None:
+    import tomli_w
+
+    path = tmp_path / "bad.toml"
+    path.write_text(tomli_w.dumps(_scenario(hydraulic_conductivity=-1e-5)))
+    result = run_cli("check", path)
+    assert result.returncode == 2, result.stderr
+    assert "bodies.0.saturated.hydraulic_conductivity" in result.stderr and "Traceback" not in result.stderr
