@@ -336,6 +336,30 @@ impl Constraints {
         }
     }
 
+    /// Whether some rigid body imposes its contact by particle forces
+    /// ([`rigid_body::Enforcement::Penalty`]).
+    pub fn has_particle_contact(&self) -> bool {
+        self.rigid_bodies().any(|b| matches!(b.enforcement(), rigid_body::Enforcement::Penalty(_)))
+    }
+
+    /// The rigid bodies' penalty contact forces, added to the nodal forces
+    /// ([`RigidBody::add_contact_forces`]).
+    pub fn add_contact_forces(
+        &mut self,
+        particles: &crate::particles::Particles,
+        grid: &GridGeometry,
+        mass: &[f64],
+        light: f64,
+        time: f64,
+        dt: f64,
+        axisymmetric: bool,
+        nodal_force: &mut [[f64; 2]],
+    ) {
+        for body in self.rigid_bodies_mut() {
+            body.add_contact_forces(particles, grid, mass, light, time, dt, axisymmetric, nodal_force);
+        }
+    }
+
     /// The rigid bodies among the constraints, in order.
     pub fn rigid_bodies(&self) -> impl Iterator<Item = &RigidBody> {
         self.list.iter().filter_map(|c| c.as_rigid_body())
