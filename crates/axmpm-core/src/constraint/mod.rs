@@ -54,6 +54,20 @@ pub use rigid_body::RigidBody;
 pub use wall::Wall;
 
 /// What a constraint may read when it corrects nodal velocities.
+/// What a rigid body's penalty contact reads ([`RigidBody::add_contact_forces`]).
+#[derive(Clone, Copy)]
+pub struct ParticleContext<'a> {
+    pub particles: &'a crate::particles::Particles,
+    pub grid: &'a GridGeometry,
+    /// Nodal mass (per radian or per metre) and the mass below which a node gets no force.
+    pub mass: &'a [f64],
+    pub light: f64,
+    /// Time at the start of the step, s.
+    pub time: f64,
+    pub dt: f64,
+    pub axisymmetric: bool,
+}
+
 pub struct NodalContext<'a> {
     pub grid: &'a GridGeometry,
     /// Nodal mass (per radian or per metre).
@@ -344,19 +358,9 @@ impl Constraints {
 
     /// The rigid bodies' penalty contact forces, added to the nodal forces
     /// ([`RigidBody::add_contact_forces`]).
-    pub fn add_contact_forces(
-        &mut self,
-        particles: &crate::particles::Particles,
-        grid: &GridGeometry,
-        mass: &[f64],
-        light: f64,
-        time: f64,
-        dt: f64,
-        axisymmetric: bool,
-        nodal_force: &mut [[f64; 2]],
-    ) {
+    pub fn add_contact_forces(&mut self, context: &ParticleContext, nodal_force: &mut [[f64; 2]]) {
         for body in self.rigid_bodies_mut() {
-            body.add_contact_forces(particles, grid, mass, light, time, dt, axisymmetric, nodal_force);
+            body.add_contact_forces(context, nodal_force);
         }
     }
 

@@ -318,19 +318,9 @@ impl RigidBody {
     /// each corner's force through the grid's bilinear shape functions at that corner, and
     /// books its opposite × dt as the body's impulse, split into base and shaft by the
     /// particle's mean normal. Serial, in particle order: independent of the thread count.
-    #[allow(clippy::too_many_arguments)]
-    pub fn add_contact_forces(
-        &mut self,
-        particles: &crate::particles::Particles,
-        grid: &crate::grid::GridGeometry,
-        mass: &[f64],
-        light: f64,
-        time: f64,
-        dt: f64,
-        axisymmetric: bool,
-        nodal_force: &mut [[f64; 2]],
-    ) {
+    pub fn add_contact_forces(&mut self, context: &super::ParticleContext, nodal_force: &mut [[f64; 2]]) {
         let Enforcement::Penalty(stiffness) = self.enforcement else { return };
+        let super::ParticleContext { particles, grid, mass, light, time, dt, axisymmetric } = *context;
         let offset = self.motion.displacement(time);
         let w = self.motion.mean_velocity(time, dt);
         let (lo, hi) = self.contact.bounding_box();
@@ -925,6 +915,15 @@ mod tests {
         }
     }
 
+    fn penalty_context<'a>(
+        particles: &'a crate::particles::Particles,
+        grid: &'a GridGeometry,
+        mass: &'a [f64],
+        dt: f64,
+    ) -> crate::constraint::ParticleContext<'a> {
+        crate::constraint::ParticleContext { particles, grid, mass, light: 0.0, time: 0.0, dt, axisymmetric: false }
+    }
+
     /// Penalty contact by hand: the plate [0.25, 0.75] × [0.5, 0.75] (moving down at 1 m/s) and
     /// one particle at (0.5, 0.45), half-width 0.0625, sliding at 0.3 m/s relative to the plate:
     /// its two top corners are 0.0125 inside the base, each pressed by k g l = 1000 × 0.0125 ×
@@ -945,7 +944,7 @@ mod tests {
         let mut mass = vec![1.0; grid.num_nodes()];
         let dt = 1e-3;
         let mut force = vec![[0.0; 2]; grid.num_nodes()];
-        b.add_contact_forces(&particles, &grid, &mass, 0.0, 0.0, dt, false, &mut force);
+        b.add_contact_forces(&penalty_context(&particles, &grid, &mass, dt), &mut force);
         let total = force.iter().fold([0.0; 2], |a, f| [a[0] + f[0], a[1] + f[1]]);
         assert!((total[0] + 0.625).abs() < 1e-12 && (total[1] + 1.5625).abs() < 1e-12, "{total:?}");
         // Node (2, 2) takes 0.75 × 0.95 of each corner's force (the tangential one shared
@@ -960,13 +959,13 @@ mod tests {
         let body = square_body(json!({"velocity": [0.0, -1.0], "friction": "rough", "contact": "penalty"}));
         let mut rough = build(json!([body]), false).unwrap().pop().unwrap().with_penalty_stiffness(1000.0);
         let mut force = vec![[0.0; 2]; grid.num_nodes()];
-        rough.add_contact_forces(&particles, &grid, &mass, 0.0, 0.0, dt, false, &mut force);
+        rough.add_contact_forces(&penalty_context(&particles, &grid, &mass, dt), &mut force);
         let total = force.iter().fold([0.0; 2], |a, f| [a[0] + f[0], a[1] + f[1]]);
         assert!((total[0] + 600.0).abs() < 1e-9 && (total[1] + 1.5625).abs() < 1e-12, "{total:?}");
         // A node of the corner's cell without mass: its share goes to the others, the total stays.
         mass[grid.node_index(2, 2)] = 0.0;
         let mut force = vec![[0.0; 2]; grid.num_nodes()];
-        b.add_contact_forces(&particles, &grid, &mass, 0.0, 0.0, dt, false, &mut force);
+        b.add_contact_forces(&penalty_context(&particles, &grid, &mass, dt), &mut force);
         assert_eq!(force[grid.node_index(2, 2)], [0.0, 0.0]);
         let total = force.iter().fold([0.0; 2], |a, f| [a[0] + f[0], a[1] + f[1]]);
         assert!((total[0] + 0.625).abs() < 1e-12 && (total[1] + 1.5625).abs() < 1e-12, "{total:?}");

@@ -15,8 +15,16 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
         // (`constraint/rigid_body.rs`), added to f_i before the momentum update.
         let serial_start = std::time::Instant::now();
         let fields = &mut state.fields;
-        let (mass, light) = (&fields.mass, params.mass_threshold);
-        state.constraints.add_contact_forces(&state.particles, &state.grid, mass, light, state.time, dt, params.axisymmetric, &mut fields.force);
+        let context = crate::constraint::ParticleContext {
+            particles: &state.particles,
+            grid: &state.grid,
+            mass: &fields.mass,
+            light: params.mass_threshold,
+            time: state.time,
+            dt,
+            axisymmetric: params.axisymmetric,
+        };
+        state.constraints.add_contact_forces(&context, &mut fields.force);
         state.timings.serial += serial_start.elapsed().as_secs_f64();
     }
     let fields = &mut state.fields;
