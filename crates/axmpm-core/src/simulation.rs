@@ -298,9 +298,26 @@ impl Simulation {
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.
         let finest = config.bodies.iter().map(|b| b.particles_per_cell).min().unwrap_or(1).max(1);
         let reach = g.cell_size / (2.0 * finest as f64);
+        // Penalty contact: k = ρ c_p² / h, the stiffness of one cell of the stiffest material in
+        // uniaxial strain (constraint/rigid_body.rs, "Penalty"); the step keeps c_p Δt/h ≤ 1/2.
+        let constrained_modulus = materials
+            .iter()
+            .zip(&used)
+            .filter(|(_, &u)| u)
+            .map(|(m, _)| m.density() * m.wave_speed() * m.wave_speed())
+            .fold(0.0_f64, f64::max);
         for body in crate::setup::rigid_bodies(&config)? {
-            constraints.push(Box::new(body.with_reach(reach)));
+            let body = body.with_reach(reach).with_penalty_stiffness(constrained_modulus / g.cell_size);
+            constraints.push(Box::new(body));
         }
+        // A penalty contact adds to a surface node at most the stiffness of the soil's own cell
+        // (k h = ρ c_p²), so its highest frequency is at most √2 times the soil's: the Courant
+        // number is kept below COURANT_LIMIT/√2 = 1/2 (constraint/rigid_body.rs, "Penalty").
+        let dt = if constraints.has_particle_contact() {
+            dt.min(0.5 * g.cell_size / wave_speed)
+        } else {
+            dt
+        };
         let water = solver::saturated::WaterState::new(&config, &grid, &particles);
         let mut state = State {
             water,

@@ -9,6 +9,7 @@ min = [0.0, 3.0]
 max = [0.5, 3.2]
 velocity = [0.0, -0.01]          # m/s, or motion = [[t, vx, vy], ...] (linear between rows)
 friction = 0.0                   # Coulomb coefficient >= 0, or "rough" (no slip)
+contact = "nodes"                # or "penalty" (docs/physics.md §8; docs/studies/contact-remedies.md)
 ```
 
 A rigid body cuts its region out of every body (no particle is created inside it), so a
@@ -61,6 +62,9 @@ class RigidBody(Section):
         None, description="[[t, vx, vy], ...] (s, m/s): velocity linear between rows, constant "
         "before the first and after the last; times increasing")
     friction: Friction = Field(0.0, description='Coulomb coefficient >= 0 (0 = smooth), or "rough" (no slip)')
+    contact: Literal["nodes", "penalty"] = Field(
+        "nodes", description='"nodes": velocity correction at the grid nodes the body covers; "penalty": '
+        "pressure on the particles' domain corners inside the body, stiffness rho c_p^2 / h")
 
     def outline(self) -> list[Vec2] | None:
         """The region as a polygon (a rectangle's four corners), or None when it is invalid."""

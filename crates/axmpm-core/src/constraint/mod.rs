@@ -52,6 +52,20 @@ pub use line::LineConstraint;
 pub use rigid_body::RigidBody;
 
 /// What a constraint may read when it corrects nodal velocities.
+/// What a rigid body's penalty contact reads ([`RigidBody::add_contact_forces`]).
+#[derive(Clone, Copy)]
+pub struct ParticleContext<'a> {
+    pub particles: &'a crate::particles::Particles,
+    pub grid: &'a GridGeometry,
+    /// Nodal mass (per radian or per metre) and the mass below which a node gets no force.
+    pub mass: &'a [f64],
+    pub light: f64,
+    /// Time at the start of the step, s.
+    pub time: f64,
+    pub dt: f64,
+    pub axisymmetric: bool,
+}
+
 pub struct NodalContext<'a> {
     pub grid: &'a GridGeometry,
     /// Nodal mass (per radian or per metre).
@@ -331,6 +345,20 @@ impl Constraints {
             if c.applies_to_start_of_step() {
                 c.apply(context, velocity, false);
             }
+        }
+    }
+
+    /// Whether some rigid body imposes its contact by particle forces
+    /// ([`rigid_body::Enforcement::Penalty`]).
+    pub fn has_particle_contact(&self) -> bool {
+        self.rigid_bodies().any(|b| matches!(b.enforcement(), rigid_body::Enforcement::Penalty(_)))
+    }
+
+    /// The rigid bodies' penalty contact forces, added to the nodal forces
+    /// ([`RigidBody::add_contact_forces`]).
+    pub fn add_contact_forces(&mut self, context: &ParticleContext, nodal_force: &mut [[f64; 2]]) {
+        for body in self.rigid_bodies_mut() {
+            body.add_contact_forces(context, nodal_force);
         }
     }
 

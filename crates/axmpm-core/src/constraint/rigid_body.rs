@@ -11,6 +11,7 @@
 //! max = [0.5, 3.2]
 //! velocity = [0.0, -0.01]        # m/s, or a table: motion = [[t, vx, vy], ...]
 //! friction = 0.0                 # Coulomb coefficient ≥ 0, or "rough" (no slip)
+//! contact = "nodes"              # or "penalty" ("Penalty contact" below)
 //! ```
 //!
 //! `motion` is a velocity table linear between its rows (times strictly increasing, from
@@ -71,6 +72,32 @@
 //! cell: the load transmitted varies with the position of the surface between two rows of nodes.
 //! At a corner (outside, within the reach) the normal is the direction from the vertex.
 //!
+//! # Penalty contact (`contact = "penalty"`)
+//!
+//! The alternative to the nodal correction imposes the contact where the surfaces are, not at
+//! the nodes (the particle-level penalty of Bird, Pretti, Coombs, Augarde et al. 2024, who test
+//! the corners of each GIMP domain against the surface): each particle's domain corners (GIMP:
+//! x_p + F·(±l₀); CPDI: its own corners) are tested against the body's polygon at the start of
+//! the step; a corner inside it by the gap g receives the pressure k·g along the nearest face's
+//! outward normal, over a tributary length of half a domain side (× its radius in axisymmetry).
+//! The particle's tangential force is the one that stops its slip relative to the body within
+//! the step (m_p |v_t|/Δt), limited to μ times its normal force for Coulomb friction (not
+//! limited for `"rough"`); it is shared among the particle's corners in contact by their
+//! normal forces. Each corner force is added to the nodal forces f_i through the bilinear shape
+//! functions of the grid at the corner (shared among the nodes of that cell that carry mass),
+//! so a force under a footing never reaches a node beyond its edge. The force varies
+//! continuously with the body's motion: no node row switches at once.
+//!
+//! Stiffness: k = ρ c_p²/h (Pa/m), the stiffness of one cell of the stiffest material in
+//! uniaxial strain; the gap under a pressure p is g/h = p/(ρ c_p²) (10⁻³ for a footing on clay
+//! at collapse), and the footing's N_c hardly depends on it (docs/studies/contact-remedies.md). It adds to a surface node at most the stiffness of the material's own
+//! cell, so the highest frequency grows by at most √2 and the time step is kept at
+//! c_p Δt/h ≤ 1/2 (the solver reduces it when `cfl` asks for more).
+//!
+//! Measured on the footing (docs/studies/contact-remedies.md): the load–settlement curve has
+//! no steps, but N_c is 8 % (strip) and 15–20 % (circle) above the exact values at B/h = 20,
+//! falling slowly with refinement; the nodal correction stays the default.
+//!
 //! # Reaction
 //!
 //! The force the material exerts on the body is the momentum the correction removes from the
@@ -79,6 +106,8 @@
 //! handed out by [`Constraint::take_impulse`] (N·s per metre in plane strain, per radian in
 //! axisymmetry). The impulse is also split into the part taken by nodes whose normal faces down
 //! (n_y < −1/√2: the **base** of a pile or footing) and the rest (the **shaft**: sides, top).
+//! With the penalty contact the impulse is minus the contact forces applied to the nodes × Δt,
+//! split by each particle's mean normal; the material's momentum changes by exactly that.
 
 use super::{Constraint, NodalContext};
 use crate::geometry::{self, Polygon, Region};
@@ -117,6 +146,17 @@ pub fn contact_velocity(v: [f64; 2], w: [f64; 2], n: [f64; 2], friction: Frictio
         }
     };
     [w[0] + t_new[0], w[1] + t_new[1]]
+}
+
+/// How the contact condition is imposed (module doc): `contact = "nodes" | "penalty"`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Enforcement {
+    /// Velocity correction at the covered nodes (within the reach of the body).
+    Nodes,
+    /// Penalty pressure k·g on the particles' domain corners that lie inside the body (gap g),
+    /// k in Pa/m (set by the solver, [`RigidBody::with_penalty_stiffness`]); each corner's
+    /// force reaches the nodes through the grid's shape functions at that corner.
+    Penalty(f64),
 }
 
 /// Prescribed motion: velocity linear between the rows of a table, constant outside it.
@@ -213,8 +253,10 @@ pub struct RigidBody {
     contact: Polygon,
     motion: Motion,
     friction: Friction,
+    enforcement: Enforcement,
     /// Distance outside the body within which a node still counts as covered (module doc).
     reach: f64,
+
     /// Impulse since the last `take_impulse`.
     impulse: [f64; 2],
     /// Impulse since the last `take_impulse_parts`: the base part and the rest (module doc).
@@ -243,7 +285,9 @@ impl RigidBody {
             contact,
             motion,
             friction,
+            enforcement: Enforcement::Nodes,
             reach: 0.0,
+
             impulse: [0.0; 2],
             impulse_base: [0.0; 2],
             impulse_shaft: [0.0; 2],
@@ -255,6 +299,108 @@ impl RigidBody {
     pub fn with_reach(mut self, reach: f64) -> Self {
         self.reach = reach;
         self
+    }
+
+    /// Sets the stiffness k (Pa/m) of a penalty contact (no effect on a nodal one).
+    pub fn with_penalty_stiffness(mut self, stiffness: f64) -> Self {
+        if let Enforcement::Penalty(_) = self.enforcement {
+            self.enforcement = Enforcement::Penalty(stiffness);
+        }
+        self
+    }
+
+    pub fn enforcement(&self) -> Enforcement {
+        self.enforcement
+    }
+
+    /// Penalty contact (module doc): adds to the nodal forces `nodal_force` the force the body
+    /// exerts on the material over the step starting at `time` (N per metre or per radian),
+    /// each corner's force through the grid's bilinear shape functions at that corner, and
+    /// books its opposite × dt as the body's impulse, split into base and shaft by the
+    /// particle's mean normal. Serial, in particle order: independent of the thread count.
+    pub fn add_contact_forces(&mut self, context: &super::ParticleContext, nodal_force: &mut [[f64; 2]]) {
+        let Enforcement::Penalty(stiffness) = self.enforcement else { return };
+        let super::ParticleContext { particles, grid, mass, light, time, dt, axisymmetric } = *context;
+        let offset = self.motion.displacement(time);
+        let w = self.motion.mean_velocity(time, dt);
+        let (lo, hi) = self.contact.bounding_box();
+        let cpdi = !particles.corners.is_empty();
+        for p in 0..particles.len() {
+            let x = particles.position[p];
+            let l = particles.initial_half_width[p];
+            // Quick rejection: the domain lies within 2 max(l)·max|F| of the centre.
+            let fg = &particles.deformation_gradient[p];
+            let spread = 2.0 * l[0].max(l[1]) * (1.0 + fg[0].abs() + fg[1].abs() + fg[2].abs() + fg[3].abs());
+            let c = [x[0] - offset[0], x[1] - offset[1]];
+            if c[0] < lo[0] - spread || c[0] > hi[0] + spread || c[1] < lo[1] - spread || c[1] > hi[1] + spread {
+                continue;
+            }
+            // Corners of the particle's domain (CPDI: its own; GIMP: F applied to ±l0).
+            let corners: [[f64; 2]; 4] = if cpdi {
+                particles.corners[p]
+            } else {
+                let mut q = [[0.0; 2]; 4];
+                for (j, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
+                    q[j] = [x[0] + fg[0] * sx * l[0] + fg[1] * sy * l[1], x[1] + fg[2] * sx * l[0] + fg[3] * sy * l[1]];
+                }
+                q
+            };
+            // Tributary length of a corner: half a side of the domain.
+            let side = 0.5 * (l[0] + l[1]);
+            let mut corner_force = [[0.0; 2]; 4];
+            let mut normal_force = [0.0; 2];
+            let mut total_magnitude = 0.0;
+            for (k, &q) in corners.iter().enumerate() {
+                let (d, n) = geometry::Region::signed_distance(&self.contact, [q[0] - offset[0], q[1] - offset[1]]);
+                if d < 0.0 {
+                    let area = if axisymmetric { side * q[0].max(0.0) } else { side };
+                    let magnitude = -stiffness * d * area;
+                    corner_force[k] = [magnitude * n[0], magnitude * n[1]];
+                    normal_force[0] += corner_force[k][0];
+                    normal_force[1] += corner_force[k][1];
+                    total_magnitude += magnitude;
+                }
+            }
+            let fn_size = normal_force[0].hypot(normal_force[1]);
+            if !(fn_size > 0.0) {
+                continue;
+            }
+            let n = [normal_force[0] / fn_size, normal_force[1] / fn_size];
+            let v = particles.velocity[p];
+            let rel = [v[0] - w[0], v[1] - w[1]];
+            let vn = rel[0] * n[0] + rel[1] * n[1];
+            let t = [rel[0] - vn * n[0], rel[1] - vn * n[1]];
+            let slip = t[0].hypot(t[1]);
+            // Tangential force: the one that stops the particle's slip in this step, at most μ N.
+            let stick = particles.mass[p] * slip / dt;
+            let limit = match self.friction {
+                Friction::Rough => stick,
+                Friction::Coulomb(mu) => stick.min(mu * fn_size),
+            };
+            let tangential = if slip > 0.0 && limit > 0.0 { [-limit * t[0] / slip, -limit * t[1] / slip] } else { [0.0; 2] };
+            let mut total = [0.0; 2];
+            for (k, &q) in corners.iter().enumerate() {
+                let f = corner_force[k];
+                let magnitude = f[0].hypot(f[1]);
+                if magnitude == 0.0 {
+                    continue;
+                }
+                // The tangential force shared among the corners in contact by their normal force.
+                let share = magnitude / total_magnitude;
+                let f = [f[0] + share * tangential[0], f[1] + share * tangential[1]];
+                if add_at_point(grid, mass, light, q, f, nodal_force) {
+                    total[0] += f[0];
+                    total[1] += f[1];
+                }
+
+            }
+            let part = if faces_down(n) { &mut self.impulse_base } else { &mut self.impulse_shaft };
+            // The material's impulse on the body is the opposite of the body's on the material.
+            part[0] -= dt * total[0];
+            part[1] -= dt * total[1];
+            self.impulse[0] -= dt * total[0];
+            self.impulse[1] -= dt * total[1];
+        }
     }
 
     pub fn motion(&self) -> &Motion {
@@ -298,6 +444,9 @@ impl Constraint for RigidBody {
     }
 
     fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
+        if matches!(self.enforcement, Enforcement::Penalty(_)) {
+            return;
+        }
         let grid = context.grid;
         let h = grid.cell_size;
         // Geometry at the end of the step, velocity the mean over the step (module doc).
@@ -387,6 +536,48 @@ impl Constraint for RigidBody {
     fn as_rigid_body_mut(&mut self) -> Option<&mut RigidBody> {
         Some(self)
     }
+}
+
+/// Adds the force `f` acting at the point `x` to the nodes of its grid cell with the bilinear
+/// shape functions, shared among the nodes that carry more than `light` mass (a node without
+/// mass has no momentum equation: its share would be lost, and with it the balance between the
+/// material's momentum and the body's impulse). Returns whether the force was applied (no node
+/// of the cell carries mass: not applied).
+fn add_at_point(
+    grid: &crate::grid::GridGeometry,
+    mass: &[f64],
+    light: f64,
+    x: [f64; 2],
+    f: [f64; 2],
+    nodal_force: &mut [[f64; 2]],
+) -> bool {
+    let h = grid.cell_size;
+    let mut cell = [0usize; 2];
+    let mut s = [0.0; 2];
+    for d in 0..2 {
+        let u = ((x[d] - grid.origin[d]) / h).clamp(0.0, (grid.nodes[d] - 1) as f64);
+        let i = (u.floor() as usize).min(grid.nodes[d] - 2);
+        cell[d] = i;
+        s[d] = u - i as f64;
+    }
+    let mut nodes = [(0usize, 0.0f64); 4];
+    let mut carried = 0.0;
+    for (k, (di, dj)) in [(0, 0), (1, 0), (0, 1), (1, 1)].into_iter().enumerate() {
+        let node = grid.node_index(cell[0] + di, cell[1] + dj);
+        let weight = (if di == 0 { 1.0 - s[0] } else { s[0] }) * (if dj == 0 { 1.0 - s[1] } else { s[1] });
+        let weight = if mass[node] > light { weight } else { 0.0 };
+        nodes[k] = (node, weight);
+        carried += weight;
+    }
+    if !(carried > 0.0) {
+        return false;
+    }
+    for (node, weight) in nodes {
+        let w = weight / carried;
+        nodal_force[node][0] += w * f[0];
+        nodal_force[node][1] += w * f[1];
+    }
+    true
 }
 
 /// Reads a number.
@@ -507,10 +698,19 @@ fn build_one(
             _ => return Err(format!("{context}.friction: must be a number >= 0 or \"rough\" (got {v})")),
         },
     };
+    let enforcement = match table.get("contact") {
+        None => Enforcement::Nodes,
+        Some(Value::String(s)) if s == "nodes" => Enforcement::Nodes,
+        // The stiffness follows from the material and the grid (the solver sets it).
+        Some(Value::String(s)) if s == "penalty" => Enforcement::Penalty(0.0),
+        Some(v) => return Err(format!("{context}.contact: must be \"nodes\" or \"penalty\" (got {v})")),
+    };
     if axisymmetric && lo[0] < -tol {
         return Err(format!("{context}: an axisymmetric rigid body must lie at r >= 0 (its region reaches r = {})", lo[0]));
     }
-    Ok(RigidBody::new(name, region, contact, motion, friction))
+    let mut body = RigidBody::new(name, region, contact, motion, friction);
+    body.enforcement = enforcement;
+    Ok(body)
 }
 
 #[cfg(test)]
@@ -713,6 +913,70 @@ mod tests {
             assert_eq!(v[grid.node_index(4, 2)], [0.0, 0.0]);
             assert_eq!(v[grid.node_index(0, 1)], [0.0, 0.0]);
         }
+    }
+
+    fn penalty_context<'a>(
+        particles: &'a crate::particles::Particles,
+        grid: &'a GridGeometry,
+        mass: &'a [f64],
+        dt: f64,
+    ) -> crate::constraint::ParticleContext<'a> {
+        crate::constraint::ParticleContext { particles, grid, mass, light: 0.0, time: 0.0, dt, axisymmetric: false }
+    }
+
+    /// Penalty contact by hand: the plate [0.25, 0.75] × [0.5, 0.75] (moving down at 1 m/s) and
+    /// one particle at (0.5, 0.45), half-width 0.0625, sliding at 0.3 m/s relative to the plate:
+    /// its two top corners are 0.0125 inside the base, each pressed by k g l = 1000 × 0.0125 ×
+    /// 0.0625 = 0.78125 N down; Coulomb μ = 0.4 limits the tangential force to 0.4 × 1.5625 =
+    /// 0.625 N against the slip. Each corner's force goes to the nodes of its cell with the
+    /// bilinear weights (corner (0.4375, 0.5125): cell (1, 2), s = (0.75, 0.05)), shared among
+    /// the nodes with mass; the body books minus the total × Δt as base impulse.
+    #[test]
+    fn penalty_forces_by_hand() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let body = square_body(json!({"velocity": [0.0, -1.0], "friction": 0.4, "contact": "penalty"}));
+        let mut b = build(json!([body]), false).unwrap().pop().unwrap().with_penalty_stiffness(1000.0);
+        assert_eq!(b.enforcement(), Enforcement::Penalty(1000.0));
+        let mut particles = crate::particles::Particles::default();
+        particles.push([0.5, 0.45], [0.3, -1.0], 2.0, 0.0156, [0.0625, 0.0625], [0.0; 4], 0);
+        // A particle well below the plate: no force.
+        particles.push([0.5, 0.2], [0.0, 0.0], 2.0, 0.0156, [0.0625, 0.0625], [0.0; 4], 0);
+        let mut mass = vec![1.0; grid.num_nodes()];
+        let dt = 1e-3;
+        let mut force = vec![[0.0; 2]; grid.num_nodes()];
+        b.add_contact_forces(&penalty_context(&particles, &grid, &mass, dt), &mut force);
+        let total = force.iter().fold([0.0; 2], |a, f| [a[0] + f[0], a[1] + f[1]]);
+        assert!((total[0] + 0.625).abs() < 1e-12 && (total[1] + 1.5625).abs() < 1e-12, "{total:?}");
+        // Node (2, 2) takes 0.75 × 0.95 of each corner's force (the tangential one shared
+        // half and half): 2 × 0.7125 × (−0.3125, −0.78125).
+        let f = force[grid.node_index(2, 2)];
+        assert!((f[0] + 2.0 * 0.7125 * 0.3125).abs() < 1e-12 && (f[1] + 2.0 * 0.7125 * 0.78125).abs() < 1e-12, "{f:?}");
+        let (base, shaft) = b.take_impulse_parts();
+        assert!((base[0] - 0.625 * dt).abs() < 1e-15 && (base[1] - 1.5625 * dt).abs() < 1e-15, "{base:?}");
+        assert_eq!(shaft, [0.0, 0.0]);
+        assert!((b.take_impulse()[1] - 1.5625 * dt).abs() < 1e-15);
+        // Rough: the tangential force stops the slip in the step, m |v_t| / Δt = 600 N.
+        let body = square_body(json!({"velocity": [0.0, -1.0], "friction": "rough", "contact": "penalty"}));
+        let mut rough = build(json!([body]), false).unwrap().pop().unwrap().with_penalty_stiffness(1000.0);
+        let mut force = vec![[0.0; 2]; grid.num_nodes()];
+        rough.add_contact_forces(&penalty_context(&particles, &grid, &mass, dt), &mut force);
+        let total = force.iter().fold([0.0; 2], |a, f| [a[0] + f[0], a[1] + f[1]]);
+        assert!((total[0] + 600.0).abs() < 1e-9 && (total[1] + 1.5625).abs() < 1e-12, "{total:?}");
+        // A node of the corner's cell without mass: its share goes to the others, the total stays.
+        mass[grid.node_index(2, 2)] = 0.0;
+        let mut force = vec![[0.0; 2]; grid.num_nodes()];
+        b.add_contact_forces(&penalty_context(&particles, &grid, &mass, dt), &mut force);
+        assert_eq!(force[grid.node_index(2, 2)], [0.0, 0.0]);
+        let total = force.iter().fold([0.0; 2], |a, f| [a[0] + f[0], a[1] + f[1]]);
+        assert!((total[0] + 0.625).abs() < 1e-12 && (total[1] + 1.5625).abs() < 1e-12, "{total:?}");
+        // The nodal enforcement leaves the velocities alone under a penalty contact.
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt, axisymmetric: false };
+        let mut v = vec![[0.5, 0.0]; grid.num_nodes()];
+        b.apply(&context, &mut v, true);
+        assert!(v.iter().all(|&x| x == [0.5, 0.0]));
+        // An unknown enforcement is refused, naming the key.
+        let e = build(json!([square_body(json!({"velocity": [0, 0], "contact": "glue"}))]), false).err().unwrap();
+        assert!(e.starts_with("rigid_bodies[0].contact") && e.contains("penalty"), "{e}");
     }
 
     #[test]

@@ -10,6 +10,23 @@ use crate::constraint::NodalContext;
 /// Nodal velocities before and after the momentum update, with damping and constraints.
 pub(super) fn update_grid(state: &mut State, dt: f64) {
     let params = state.parameters;
+    if state.constraints.has_particle_contact() {
+        // Rigid bodies' penalty contact: forces at the particles' domain corners
+        // (`constraint/rigid_body.rs`), added to f_i before the momentum update.
+        let serial_start = std::time::Instant::now();
+        let fields = &mut state.fields;
+        let context = crate::constraint::ParticleContext {
+            particles: &state.particles,
+            grid: &state.grid,
+            mass: &fields.mass,
+            light: params.mass_threshold,
+            time: state.time,
+            dt,
+            axisymmetric: params.axisymmetric,
+        };
+        state.constraints.add_contact_forces(&context, &mut fields.force);
+        state.timings.serial += serial_start.elapsed().as_secs_f64();
+    }
     let fields = &mut state.fields;
     // Row by row over the region of this step (elsewhere every field is zero and stays so).
     let region = state.scratch.grid_region;

@@ -70,15 +70,20 @@ class Footing:
         parser.add_argument("--footing-meshes", type=int, nargs="+", default=None, metavar="B/h",
                             help=f"footing: cells per footing width (default {' '.join(map(str, MESHES))}; "
                             f"--quick: {MESHES[0]})")
+        parser.add_argument("--footing-contact", choices=("nodes", "penalty"), default="nodes",
+                            help="footing: the rigid body's contact enforcement (default nodes; "
+                            "docs/studies/contact-remedies.md compares them)")
 
     def runs(self, options: argparse.Namespace) -> list[RunSpec]:
+        contact = getattr(options, "footing_contact", "nodes") or "nodes"
         return [RunSpec(run_name(f, r, n), {"formulation": f, "roughness": r, "cells_per_width": n,
-                                            "scheme": SCHEME})
+                                            "scheme": SCHEME, "contact": contact})
                 for n in meshes_of(options) for f, r in CASES]
 
     def scenario(self, run: RunSpec) -> Any:
         p = run.params
-        return footing_scenario(p["formulation"], p["roughness"], p["cells_per_width"], p["scheme"])
+        return footing_scenario(p["formulation"], p["roughness"], p["cells_per_width"], p["scheme"],
+                                p.get("contact", "nodes"))
 
     def reference(self, run: RunSpec) -> dict[str, Any]:
         return {"bearing_capacity_factor": EXACT[(run.params["formulation"], run.params["roughness"])]}
