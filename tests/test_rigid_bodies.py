@@ -52,6 +52,7 @@ BAD_INPUT = [
     ("rigid_bodies.0.friction=-0.1", "rigid_bodies.0.friction", 'must be a number >= 0 or "rough"'),
     ("rigid_bodies.0.friction='sticky'", "rigid_bodies.0.friction", 'must be a number >= 0 or "rough"'),
     ("rigid_bodies.0.contact='glue'", "rigid_bodies.0.contact", "penalty"),
+    ("rigid_bodies.0.contact='penalty'", "rigid_bodies.0.contact", "set experimental = true"),
     ("rigid_bodies.0.name='left'", "rigid_bodies.0.name", "grid face or wall"),
     ("rigid_bodies.0.name='a.b'", "rigid_bodies.0.name", "pattern"),
     ("materials.clay.cohesion=0", "materials.clay.friction_angle", "= 0 (Tresca) needs cohesion > 0"),

@@ -56,7 +56,7 @@ fn momentum_given_to_a_free_block_is_the_impulse_the_rigid_body_takes() {
                 cfg.simulation.flip_fraction = flip;
                 cfg.rigid_bodies = vec![table(json!({"name": "plate", "shape": "rectangle", "min": [0.6, 0.4],
                                                        "max": [1.0, 0.6], "velocity": [0.0, 0.5], "friction": 0.3,
-                                                       "contact": contact}))];
+                                                       "contact": contact, "experimental": contact == "penalty"}))];
                 let mut sim = Simulation::new(cfg, 1).unwrap();
                 let mass = sim.total_factor() * sim.particles().mass.iter().sum::<f64>();
                 let p0 = momentum(&sim);
@@ -190,7 +190,7 @@ fn a_rigid_body_pulled_away_leaves_the_material() {
             let mut cfg = block(formulation, shape, [0.0, 0.0], [0.0, 0.0]);
             cfg.rigid_bodies = vec![table(json!({"name": "plate", "shape": "rectangle", "min": [0.5, 1.2], "max": [1.1, 1.4],
                                                    "motion": [[0.0, 0.0, -0.5], [0.1, 0.0, -0.5], [0.12, 0.0, 1.0]],
-                                                   "friction": "rough", "contact": contact}))];
+                                                   "friction": "rough", "contact": contact, "experimental": contact == "penalty"}))];
             let mut sim = Simulation::new(cfg, 1).unwrap();
             sim.advance(0.2, u64::MAX).unwrap();
             let pushed = force(&mut sim, "plate");
@@ -226,7 +226,7 @@ fn footing_run(threads: usize, resume: bool, contact: &str) -> (Vec<[f64; 2]>, V
     cfg.simulation.volumetric_averaging = VolumetricAveraging::Cell;
     cfg.rigid_bodies = vec![table(json!({"name": "footing", "shape": "rectangle", "min": [0.0, 1.2], "max": [0.5, 1.4],
                                            "motion": [[0.0, 0.0, 0.0], [0.02, 0.0, -1.0]], "friction": 0.5,
-                                           "contact": contact}))];
+                                           "contact": contact, "experimental": contact == "penalty"}))];
     let mut sim = Simulation::new(cfg, threads).unwrap();
     let end = 0.08;
     // Both runs stop at t = 0.0375 (an output time: `advance` lands on it), one of them is then

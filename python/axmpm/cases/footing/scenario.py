@@ -108,7 +108,7 @@ def footing_area(formulation: str) -> float:
 def footing_scenario(formulation: str = "plane_strain", roughness: str = "smooth", cells_per_width: int = 20,
                      shape_function: str = "cpgimp", contact: str = "nodes") -> Scenario:
     """The footing scenario (module doc) at B/h = ``cells_per_width``, the footing's contact
-    enforced by ``contact`` (``"nodes"`` or ``"penalty"``)."""
+    enforced by ``contact`` (``"nodes"``, or the experimental ``"penalty"``)."""
     if formulation not in ("plane_strain", "axisymmetric"):
         raise ValueError(f"formulation must be plane_strain or axisymmetric (got {formulation!r})")
     if roughness not in ("smooth", "rough"):
@@ -140,6 +140,7 @@ def footing_scenario(formulation: str = "plane_strain", roughness: str = "smooth
             "motion": [[0.0, 0.0, 0.0], [RAMP_TIME, 0.0, -VELOCITY]],
             "friction": "rough" if roughness == "rough" else 0.0,
             "contact": contact,
+            "experimental": contact == "penalty",
         }],
         "boundaries": {"left": "roller", "right": "roller", "bottom": "fixed", "top": "free"},
     }
