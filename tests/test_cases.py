@@ -104,3 +104,52 @@ def test_footing_checks_enforce_ten_percent_and_report_the_five_percent_aim(
     assert (enforced in failed) is (not enforced_ok)
     assert (aim in missed) is (not aim_ok)
     assert all(c.get("required", True) for c in failed) and not any(c["required"] for c in missed)
+
+
+def _named(checks: list[dict], start: str) -> dict:
+    return next(c for c in checks if c["name"].startswith(start))
+
+
+@pytest.mark.parametrize(("fine", "converged"), [(5.25, True), (5.35, False)])
+def test_footing_convergence_check_fails_when_refinement_moves_away_from_the_exact_value(
+        fine: float, converged: bool) -> None:
+    """Strip: 2.1 % high at B/h = 10; 2.1 % (5.25) passes, 4.1 % (5.35) at B/h = 40 fails."""
+    from axmpm.cases.footing.case import Footing
+
+    checks = Footing().checks([_footing_record("plane_strain", "smooth", 10, 5.25),
+                               _footing_record("plane_strain", "smooth", 40, fine)])
+    check = _named(checks, "strip smooth: |N_c error| at the finest mesh")
+    assert check["passed"] is converged and check.get("required", True)
+
+
+def test_footing_convergence_check_needs_two_meshes() -> None:
+    from axmpm.cases.footing.case import Footing
+
+    checks = Footing().checks([_footing_record("plane_strain", "smooth", 40, 5.14)])
+    assert not [c for c in checks if "no larger than at the coarsest" in c["name"]]
+
+
+@pytest.mark.parametrize(("circle_rough", "enforced_ok", "aim_ok"), [(6.05, True, True), (5.93, True, False),
+                                                                     (5.81, False, False)])
+def test_footing_rough_smooth_difference_is_enforced_by_size(circle_rough: float, enforced_ok: bool,
+                                                             aim_ok: bool) -> None:
+    """Exact rough − smooth = 6.05 − 5.69 = 0.36: 0.24 misses the 0.1 aim, 0.12 fails the ± 50 %."""
+    from axmpm.cases.footing.case import Footing
+
+    checks = Footing().checks([_footing_record("axisymmetric", "smooth", 40, 5.69),
+                               _footing_record("axisymmetric", "rough", 40, circle_rough)])
+    enforced = _named(checks, "circle: rough above smooth by 0.36")
+    aim = _named(checks, "circle: rough − smooth within 0.1")
+    assert enforced["passed"] is enforced_ok and aim["passed"] is aim_ok
+    assert enforced.get("required", True) and aim["required"] is False
+
+
+def test_footing_largest_load_step_reads_the_curve_after_the_ramp() -> None:
+    import numpy as np
+
+    from axmpm.cases.footing.case import largest_load_step
+
+    settlement = np.array([0.005, 0.015, 0.025, 0.035, 0.045])
+    nc = np.array([1.0, 4.0, 4.1, 4.9, 4.95])  # the jump 1.0 → 4.0 lies in the ramp, 4.1 → 4.9 after it
+    assert largest_load_step(settlement, nc) == pytest.approx(0.8)
+    assert largest_load_step(settlement[:2], nc[:2]) is None

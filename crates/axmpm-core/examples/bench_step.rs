@@ -10,43 +10,9 @@
 //! bit-for-bit equal results) and the serial fraction: the share of the timed wall time spent in
 //! the parts of the step that run on one thread (`PhaseTimings::serial`); then, on a second
 //! line, the wall time per particle-step of each pass.
+#[path = "support/bench_case.rs"]
+mod bench_case;
 use axmpm_core::Simulation;
-
-fn scenario(formulation: &str, scheme: &str, cell: f64, material: &str) -> String {
-    let sand = match material {
-        "mohr_coulomb" => r#"{"model": "mohr_coulomb", "density": 1550.0, "youngs_modulus": 1.0e6,
-    "poisson_ratio": 0.3, "friction_angle": 25.0, "dilation_angle": 0.0, "cohesion": 0.0,
-    "tension_cutoff": 0.0}"#,
-        "linear_elastic" => r#"{"model": "linear_elastic", "density": 1550.0, "youngs_modulus": 1.0e6, "poisson_ratio": 0.3}"#,
-        other => panic!("MATERIAL must be mohr_coulomb or linear_elastic (got {other})"),
-    };
-    format!(
-        r#"{{
-  "simulation": {{"formulation": "{formulation}", "shape_function": "{scheme}", "end_time": 1.0,
-    "output_interval": 1.0, "gravity": [0.0, -9.81], "gravity_ramp_time": 0.0, "time_step": 0.0,
-    "cfl": 0.4, "update_scheme": "musl", "flip_fraction": 0.99, "damping": 0.0}},
-  "grid": {{"origin": [0.0, 0.0], "extent": [0.4, 0.15], "cell_size": {cell}}},
-  "materials": {{"sand": {sand}}},
-  "bodies": [{{"material": "sand", "shape": "rectangle", "min": [0.0, 0.0], "max": [0.1, 0.125],
-    "particles_per_cell": 2, "velocity": [0.0, 0.0], "initial_stress": "geostatic"}}],
-  "boundaries": {{"left": {{"condition": "roller", "coefficient": 0.0}},
-    "right": {{"condition": "free", "coefficient": 0.0}},
-    "bottom": {{"condition": "friction", "coefficient": 0.466}},
-    "top": {{"condition": "free", "coefficient": 0.0}}}},
-  "walls": []
-}}"#
-    )
-}
-
-/// FNV-1a over the bits of a sequence of floats.
-fn hash(h: &mut u64, values: impl IntoIterator<Item = f64>) {
-    for v in values {
-        for b in v.to_bits().to_le_bytes() {
-            *h ^= b as u64;
-            *h = h.wrapping_mul(0x100_0000_01b3);
-        }
-    }
-}
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -57,7 +23,7 @@ fn main() {
     let warmup: u64 = args.get(5).map(|s| s.parse().unwrap()).unwrap_or(2);
     let cell: f64 = args.get(6).map(|s| s.parse().unwrap()).unwrap_or(0.0005);
     let material = args.get(7).map(String::as_str).unwrap_or("mohr_coulomb");
-    let mut sim = Simulation::from_json(&scenario(formulation, scheme, cell, material), threads).unwrap();
+    let mut sim = Simulation::from_json(&bench_case::scenario(formulation, scheme, cell, material), threads).unwrap();
     sim.advance(1e9, warmup).unwrap();
     let before = sim.timings();
     let t = std::time::Instant::now();
@@ -66,18 +32,7 @@ fn main() {
     let after = sim.timings();
     let serial = after.serial - before.serial;
     let p = sim.particles();
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    hash(&mut h, p.position.iter().flatten().copied());
-    hash(&mut h, p.velocity.iter().flatten().copied());
-    hash(&mut h, p.stress.iter().flatten().copied());
-    hash(&mut h, p.deformation_gradient.iter().flatten().copied());
-    hash(&mut h, p.volume.iter().copied());
-    // The state without `plastic_work` (issue 15: booked only, never fed back), so the hash
-    // compares the same arrays as before that slot existed.
-    let skip = sim.state_names().iter().position(|n| n == "plastic_work");
-    let stride = p.state_stride;
-    hash(&mut h, p.state.iter().enumerate().filter(|(k, _)| Some(k % stride) != skip).map(|(_, v)| *v));
-    hash(&mut h, p.corners.iter().flatten().flatten().copied());
+    let h = bench_case::result_hash(&sim);
     println!(
         "{scheme} {formulation} threads={threads} isa={} N={} steps={steps} {:.3} M particle-steps/s hash={h:016x} bytes/particle={} serial={:.4}",
 

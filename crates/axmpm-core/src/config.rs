@@ -364,15 +364,6 @@ impl Config {
         if self.bodies.is_empty() {
             return Err("bodies: at least one body is needed".into());
         }
-        self.build_rigid_bodies()?;
         Ok(())
-    }
-
-    /// The rigid bodies of the scenario (validated: errors name `rigid_bodies[i].key`).
-    pub fn build_rigid_bodies(&self) -> Result<Vec<crate::constraint::RigidBody>, String> {
-        let g = &self.grid;
-        let upper = [g.origin[0] + g.extent[0], g.origin[1] + g.extent[1]];
-        let axisymmetric = self.simulation.formulation == FormulationKind::Axisymmetric;
-        crate::constraint::rigid_body::build_all(&self.rigid_bodies, g.origin, upper, axisymmetric)
     }
 }

@@ -177,13 +177,6 @@ impl NodeBox {
         }
     }
 
-    /// Rows of the box as node-row indices (empty range for an empty box is the caller's
-    /// concern: test [`NodeBox::is_empty`] first).
-    #[inline(always)]
-    pub fn row_range(&self) -> std::ops::RangeInclusive<usize> {
-        self.rows[0] as usize..=self.rows[1] as usize
-    }
-
     /// Columns of the box, clipped to a grid row of `nodes_x` nodes.
     #[inline(always)]
     pub fn column_span(&self, nodes_x: usize) -> std::ops::RangeInclusive<usize> {

@@ -21,7 +21,7 @@ pub fn create_particles<F: Formulation>(
     with_corners: bool,
 ) -> Result<Particles, String> {
     let mut particles = Particles { state_stride, ..Default::default() };
-    let rigid_bodies = config.build_rigid_bodies()?;
+    let rigid_bodies = rigid_bodies(config)?;
     for (i, body) in config.bodies.iter().enumerate() {
         let context = format!("bodies[{i}]");
         let region = geometry::build(&context, &body.region)?;
@@ -80,4 +80,12 @@ fn add_body<F: Formulation>(
         };
         particles.push(x, body.velocity, density * volume, volume, half, stress, id);
     });
+}
+
+/// The rigid bodies of the scenario (validated: errors name `rigid_bodies[i].key`).
+pub fn rigid_bodies(config: &Config) -> Result<Vec<crate::constraint::RigidBody>, String> {
+    let g = &config.grid;
+    let upper = [g.origin[0] + g.extent[0], g.origin[1] + g.extent[1]];
+    let axisymmetric = config.simulation.formulation == crate::config::FormulationKind::Axisymmetric;
+    crate::constraint::rigid_body::build_all(&config.rigid_bodies, g.origin, upper, axisymmetric)
 }

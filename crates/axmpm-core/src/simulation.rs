@@ -252,7 +252,7 @@ impl Simulation {
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.
         let finest = config.bodies.iter().map(|b| b.particles_per_cell).min().unwrap_or(1).max(1);
         let reach = g.cell_size / (2.0 * finest as f64);
-        for body in config.build_rigid_bodies()? {
+        for body in crate::setup::rigid_bodies(&config)? {
             constraints.push(Box::new(body.with_reach(reach)));
         }
         let mut state = State {

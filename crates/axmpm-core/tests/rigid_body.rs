@@ -131,7 +131,7 @@ fn no_particle_is_ever_inside_a_rigid_body() {
             ];
             let h = cfg.grid.cell_size;
             let mut sim = Simulation::new(cfg, 1).unwrap();
-            let bodies = sim.config().build_rigid_bodies().unwrap();
+            let bodies = axmpm_core::setup::rigid_bodies(sim.config()).unwrap();
             let label = format!("{formulation:?} {shape:?}");
             let depth = |sim: &Simulation| {
                 let t = sim.time();

@@ -1,4 +1,4 @@
-"""``footing``: bearing capacity of a rigid footing on weightless Tresca soil (issue #13).
+"""``footing``: bearing capacity of a rigid footing on weightless Tresca soil.
 
 * :mod:`.scenario`: the scenario builder, the load–settlement curve of a run and its N_c;
 * :mod:`.case`: the verification case (strip and circle, smooth and rough, B/h = 10, 20, 40),

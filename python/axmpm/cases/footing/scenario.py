@@ -1,5 +1,5 @@
 """The rigid footing on weightless Tresca soil: scenario builder, load–settlement curve and the
-bearing capacity factor N_c of a run (docs/physics.md §8, issue #13).
+bearing capacity factor N_c of a run (docs/physics.md §8).
 
 Problem: a rigid footing of width (diameter) B = 1 m resting on the surface of a weightless
 (g = 0) Tresca layer, s_u = 10 kPa, E = 3 MPa, ν = 0.49, ρ = 1800 kg/m³, pushed down at a
