@@ -19,6 +19,7 @@ The engine's models must each have one (tests/test_scenario.py compares with
 from __future__ import annotations
 
 import importlib
+import json
 import pkgutil
 from collections.abc import Callable
 from typing import Annotated, Any, Union
@@ -108,9 +109,7 @@ def engine_key_errors(name: str, table: dict[str, Any]) -> list[tuple[str, str]]
     """The engine's refusals of the retired and experimental keys of material ``name`` (its
     table, ``model`` included), as (``materials.NAME.KEY``, message): the engine holds the rule
     and the wording (``axmpm._core.material_key_errors``), the front end only reports them."""
-    import json
-
-    from ... import _core  # type: ignore[attr-defined]
+    from ... import _core  # type: ignore[attr-defined]  # the engine loads on first use
 
     found = _core.material_key_errors(name, json.dumps(table, default=str))
     return [(f"materials.{name}.{key}", message) for key, message in found]
