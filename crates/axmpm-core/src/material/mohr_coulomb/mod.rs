@@ -1095,21 +1095,13 @@ mod tests {
         (h, yielded)
     }
 
-    /// Regression pin (a value from a run): plain Mohr–Coulomb on these histories, bit for bit.
-    #[test]
-    fn plain_mohr_coulomb_histories_are_unchanged() {
-        const PLAIN_MOHR_COULOMB: u64 = 0x8bc9c68b820ee40a;
-        let (h, yielded) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d));
-        assert_eq!(h, PLAIN_MOHR_COULOMB, "{h:#x}");
-        assert!(yielded > 100, "only {yielded} of 160 histories yielded");
-    }
-
     /// A default-off `critical_packing_fraction` (`with_disconnection(None)`) is plain
     /// Mohr–Coulomb bit for bit; switched on (J_c = 1 on these F = I histories, so every
     /// step whose J would exceed 1 disconnects) it changes the histories.
     #[test]
     fn disconnection_off_is_plain_mohr_coulomb_bit_for_bit() {
-        let (plain, _) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d));
+        let (plain, yielded) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d));
+        assert!(yielded > 100, "only {yielded} of 160 histories yielded");
         let (off, _) = trajectory_hash(&|a, b, c, d| mc(a, b, c, d).with_disconnection(None));
         assert_eq!(off, plain);
         // `kin` reports J = 1: with J_c just below 1 every step is disconnected.
