@@ -63,6 +63,22 @@ def test_check_reports_all_errors(tiny_toml: Path) -> None:
     assert len(result.stderr.strip().splitlines()) == 3
 
 
+def test_check_refuses_retired_and_experimental_material_keys(tiny_toml: Path) -> None:
+    mohr_coulomb = ["--set", 'materials.soil.model="mohr_coulomb"', "--set", "materials.soil.friction_angle=30"]
+    result = run_cli("check", tiny_toml, *mohr_coulomb, "--set", "materials.soil.recompaction=true")
+    assert_input_error(result, "materials.soil.recompaction")
+    assert "error: materials.soil.recompaction: is not a mohr_coulomb parameter (retired; see " \
+           "docs/studies/granular-variants.md)" in result.stderr
+    result = run_cli("check", tiny_toml, *mohr_coulomb, "--set", "materials.soil.critical_packing_fraction=0.35",
+                     "--set", "materials.soil.grain_density=2500")
+    assert_input_error(result, "materials.soil.critical_packing_fraction")
+    assert "is experimental (measured, not validated): set experimental = true in [materials.soil] to use it" \
+        in result.stderr
+    result = run_cli("check", tiny_toml, *mohr_coulomb, "--set", "materials.soil.critical_packing_fraction=0.35",
+                     "--set", "materials.soil.grain_density=2500", "--set", "materials.soil.experimental=true")
+    assert result.returncode == 0, result.stderr
+
+
 def test_check_cross_errors(tiny_toml: Path) -> None:
     result = run_cli("check", tiny_toml, "--set", "bodies.0.material=sand",
                      "--set", "simulation.formulation=axisymmetric", "--set", "boundaries.left=fixed")

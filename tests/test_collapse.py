@@ -98,6 +98,8 @@ def test_builder_default_model_is_the_chosen_one():
     assert (sand.model, sand.mohr_coulomb_section, sand.inertial_friction) == ("drucker_prager", True, None)
     assert sand.friction == pytest.approx(math.tan(math.radians(27.4)))
     assert sand.critical_packing_fraction is None
+    # Production options only: the builder's table does not opt into experimental ones.
+    assert sand.experimental is False and "experimental" not in collapse_scenario(0.8, as_dict=True)["materials"]["sand"]
     assert s.simulation.volumetric_averaging == "cell"
     assert s.bodies[0].k0 == pytest.approx(1.0 - sand.friction)
     assert s.walls[0].coefficient == pytest.approx(math.tan(math.radians(25.0)))
@@ -137,23 +139,15 @@ def test_builder_geometry_walls_and_friction():
     assert geometry_from_scenario(collapse_scenario(5.4)).height == pytest.approx(0.162)
 
 
-def test_builder_recompaction_flag():
-    mc = {"material_model": "mohr_coulomb"}
-    assert collapse_scenario(0.8, **mc).materials["sand"].recompaction is False  # the seed set-up
-    assert collapse_scenario(0.8, recompaction=True, **mc).materials["sand"].recompaction is True
-
-
 def test_builder_critical_packing_fraction():
     mc = {"material_model": "mohr_coulomb"}
     sand = collapse_scenario(0.8, **mc).materials["sand"]
     assert sand.critical_packing_fraction is None and sand.grain_density is None  # off by default
     sand = collapse_scenario(0.8, critical_packing_fraction=0.55, **mc).materials["sand"]
-    assert sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
-    assert sand.cell_averaged_disconnection is False  # off by default
+    assert sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0 and sand.experimental is True
     sand = collapse_scenario(0.8, material_model="drucker_prager", critical_packing_fraction=0.55).materials["sand"]
     assert sand.model == "drucker_prager" and sand.critical_packing_fraction == 0.55 and sand.grain_density == 2500.0
-    sand = collapse_scenario(0.8, critical_packing_fraction=0.55, cell_averaged_disconnection=True, **mc).materials["sand"]
-    assert sand.cell_averaged_disconnection is True
+    assert sand.experimental is True
 
 
 def test_builder_material_models():
@@ -179,8 +173,10 @@ def test_builder_material_models():
     sand = sc.materials["sand"]
     assert (sand.friction, sand.inertial_friction, sand.inertial_number_scale) == (0.3819, 0.6435, 0.279)
     assert (sand.grain_diameter, sand.grain_density) == (1.15e-3, 2500.0)
+    assert sand.experimental is True
     assert sc.bodies[0].k0 == pytest.approx(1.0 - 0.3819)
-    assert collapse_scenario(0.8, material_model="granular_fluidity").bodies[0].k0 == pytest.approx(1.0 - 0.3819)
+    fluidity = collapse_scenario(0.8, material_model="granular_fluidity")
+    assert fluidity.bodies[0].k0 == pytest.approx(1.0 - 0.3819) and fluidity.materials["sand"].experimental is True
     with pytest.raises(ValueError, match="material_model: must be 'mohr_coulomb', 'granular_fluidity' or "
                                          "'drucker_prager' \\(got 'cam_clay'\\)"):
         collapse_scenario(0.8, material_model="cam_clay")
@@ -492,17 +488,14 @@ def test_demo_names_the_model_it_runs():
                               "volumetric_averaging": "none"}) == "Mohr-Coulomb (phi 22, psi 0)"
 
 
-@pytest.mark.parametrize("key, value", [("friction_angle", 22.45), ("dilation_angle", 5.0), ("cohesion", 10.0),
-                                        ("recompaction", True), ("cell_averaged_disconnection", True),
-                                        ("inertial_friction_angle", 40.05)])
+@pytest.mark.parametrize("key, value", [("friction_angle", 22.45), ("dilation_angle", 5.0), ("cohesion", 10.0)])
 def test_mohr_coulomb_keys_are_refused_with_the_other_models(key, value):
     # The default model is the cone: a Mohr–Coulomb key would silently change nothing (or only
     # the base), so the builder names it and the model instead.
     for model in ("drucker_prager", "granular_fluidity"):
         with pytest.raises(ValueError, match=f"{key}: is a mohr_coulomb parameter, and material_model is '{model}'"):
             collapse_scenario(0.8, material_model=model, **{key: value})
-    extra = {"critical_packing_fraction": 0.55} if key == "cell_averaged_disconnection" else {}
-    assert collapse_scenario(0.8, material_model="mohr_coulomb", **extra, **{key: value}).materials["sand"].model \
+    assert collapse_scenario(0.8, material_model="mohr_coulomb", **{key: value}).materials["sand"].model \
         == "mohr_coulomb"
 
 

@@ -102,104 +102,17 @@ def test_material_is_validated_with_scenario_models():
         material_point(mc(), np.zeros((2, 5)), 0.0)
 
 
-# --------------------------------------------------------------------------- recompaction
+# --------------------------------------------------------------------------- retired keys
 
 K_BULK = E / (3 * (1 - 2 * NU))
 
 
-def stretch_then_compress(extra_steps: int = 0) -> np.ndarray:
-    """Axisymmetric: 100 steps of radial + hoop stretch with axial shortening (tr > 0), then the
-    same volume back by an axial compression (different deviatoric path), then ``extra_steps``
-    more of it."""
-    up = np.tile([1.0, 0.0, 0.0, -0.5, 1.0], (100, 1))  # tr = 1.5 per unit time
-    down = np.tile([0.0, 0.0, 0.0, -1.5, 0.0], (100 + extra_steps, 1))
-    return np.vstack([up, down])
-
-
-@pytest.mark.parametrize("psi", [0.0, 10.0])
-def test_recompaction_closes_the_opening_stress_free(psi):
-    dt = 1e-4
-    on = material_point({**mc(psi=psi), "recompaction": True}, stretch_then_compress(), dt)
-    assert on.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "opening_volumetric_strain", "plastic_work"]
-    opening = on.state("opening_volumetric_strain")
-    assert opening[99] == pytest.approx(100 * 1.5 * dt, rel=1e-9)  # all of the stretch opened
-    assert np.all(opening >= 0.0)
-    assert opening[-1] <= 1e-15 and abs(on.state("plastic_volumetric_strain")[-1]) <= 1e-15
-    np.testing.assert_allclose(on.stresses, 0.0, atol=1e-6)  # stress-free all the way
-    # Off (the previous behaviour): the compression back builds ~K × 0.015 of pressure.
-    off = material_point(mc(psi=psi), stretch_then_compress(), dt)
-    assert off.state_names == ["plastic_shear_strain", "plastic_volumetric_strain", "plastic_work"]
-    assert -off.stresses[-1, :3].mean() > 0.3 * K_BULK * 100 * 1.5 * dt
-
-
-def test_recompaction_then_compression_is_elastic_from_zero():
-    dt = 1e-4
-    extra = 5  # 5 steps of axial compression 1.5e-4 each beyond closure: confined, elastic
-    on = material_point({**mc(), "recompaction": True}, stretch_then_compress(extra), dt)
-    fresh = material_point({**mc(), "recompaction": True}, np.tile([0.0, 0.0, 0.0, -1.5, 0.0], (extra, 1)), dt)
-    np.testing.assert_allclose(on.stresses[-1], fresh.stresses[-1], rtol=1e-9, atol=1e-6)
-    assert fresh.stresses[-1, 1] == pytest.approx(-(LAM + 2 * MU) * extra * 1.5 * dt, rel=1e-9)
-
-
-def test_recompaction_must_be_a_boolean():
-    with pytest.raises(ScenarioError, match="recompaction"):
-        material_point({**mc(), "recompaction": "yes"}, np.zeros((1, 5)), 1e-3)
-
-
-def test_front_end_and_engine_agree_on_the_recompaction_default():
-    import json
-
-    from axmpm import _core
-    from axmpm.scenario import RECOMPACTION_DEFAULT
-
-    assert validate_material(mc()).recompaction is RECOMPACTION_DEFAULT
-    # The engine's own default (a material JSON without the key, as Rust callers may send).
-    _, _, names = _core.material_response(json.dumps(mc()), np.zeros((1, 5)), 1e-3, [0.0] * 4)
-    assert ("opening_volumetric_strain" in names) is RECOMPACTION_DEFAULT
-
-
-def mu_i(phi_s=22.45, phi_2=40.05, d=1.15e-3, rho_s=2500.0):
-    return dict(mc(phi_s), inertial_friction_angle=phi_2, grain_diameter=d, grain_density=rho_s)
-
-
-@pytest.mark.parametrize("rate", [1e-3, 20.0, 400.0])
-def test_mu_i_simple_shear_sits_on_the_surface_of_its_inertial_number(rate):
-    """A confined sample sheared at rate γ̇ ends with in-plane Mohr circle radius / centre =
-    μ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I), I = γ̇ d / √(P/ρ_s) (sin φ = μ; mu_i.rs)."""
-    steps, p = 800, 300.0
-    L = np.zeros((steps, 5))
-    L[:, 1] = rate  # u̇ = γ̇ y
-    out = material_point(mu_i(), L, 0.2 / (steps * rate), [-p, -p, -p, 0.0])
-    s = out.stresses[-1]
-    centre = -(s[0] + s[1]) / 2
-    radius = math.hypot((s[0] - s[1]) / 2, s[3])
-    pressure = -(s[0] + s[1] + s[2]) / 3
-    inertial = rate * 1.15e-3 / math.sqrt(pressure / 2500.0)
-    mu_s, mu_2 = math.sin(math.radians(22.45)), math.sin(math.radians(40.05))
-    mu = mu_s + (mu_2 - mu_s) * inertial / (0.279 + inertial)
-    assert radius / centre == pytest.approx(mu, rel=3e-3)
-    assert out.state_names[-1] == "inertial_number"
-    assert out.state("inertial_number")[-1] == pytest.approx(inertial, rel=0.05)
-    rate_independent = material_point(mc(22.45), L, 0.2 / (steps * rate), [-p, -p, -p, 0.0]).stresses[-1]
-    ratio_mc = math.hypot((rate_independent[0] - rate_independent[1]) / 2, rate_independent[3]) / (
-        -(rate_independent[0] + rate_independent[1]) / 2)
-    assert ratio_mc == pytest.approx(mu_s, rel=3e-3)
-    if rate > 100:
-        assert radius / centre > mu_s + 0.5 * (mu_2 - mu_s)  # clearly rate-dependent
-
-
-@pytest.mark.parametrize("change,key", [
-    ({"inertial_friction_angle": 20.0}, "inertial_friction_angle"),
-    ({"grain_diameter": None}, "grain_diameter"),
-    ({"grain_density": 1000.0}, "grain_density"),
-    ({"inertial_number_scale": 0.0}, "inertial_number_scale"),
-])
-def test_mu_i_bad_keys_are_named(change, key):
-    material = {**mu_i(), **change}
-    material = {k: v for k, v in material.items() if v is not None}
-    with pytest.raises(ScenarioError) as err:
-        material_point(material, np.zeros((1, 5)), 1e-3)
-    assert key in str(err.value)
+@pytest.mark.parametrize("key,value", [("recompaction", True), ("recompaction", False),
+                                       ("cell_averaged_disconnection", True),
+                                       ("inertial_friction_angle", 40.0)])
+def test_a_retired_mohr_coulomb_key_is_refused_by_name(key, value):
+    assert_named_error({**mc(), key: value}, key,
+                       "is not a mohr_coulomb parameter (retired; see docs/studies/granular-variants.md)")
 
 
 # --------------------------------------------------------------------------- apex, any principal order
@@ -254,7 +167,7 @@ def test_mohr_coulomb_return_is_the_same_for_reversed_principal_stresses(princip
 # --------------------------------------------------------------------------- disconnection
 
 def disconnecting(phi_c=0.55, **extra):
-    return {**mc(), "critical_packing_fraction": phi_c, "grain_density": 2500.0, **extra}
+    return {**mc(), "critical_packing_fraction": phi_c, "grain_density": 2500.0, "experimental": True, **extra}
 
 
 def test_disconnected_sand_is_stress_free_and_recompacts_without_rebound():
@@ -281,17 +194,9 @@ def test_disconnected_sand_is_stress_free_and_recompacts_without_rebound():
     ({"critical_packing_fraction": 0.0}, "critical_packing_fraction", "must be > 0"),
     ({"grain_density": 1500.0}, "grain_density", "must be > density = 1550"),
     ({"grain_density": None}, "grain_density", "is required with critical_packing_fraction"),
-    ({"recompaction": True}, "critical_packing_fraction", "cannot be combined with recompaction"),
-    ({"cell_averaged_disconnection": 1}, "cell_averaged_disconnection", "boolean"),
 ])
 def test_disconnection_input_errors_name_the_field(extra, field, message):
     assert_named_error(disconnecting(**extra), field, message)
-
-
-def test_cell_averaged_disconnection_needs_the_critical_packing():
-    assert_named_error({**mc(), "cell_averaged_disconnection": True}, "cell_averaged_disconnection",
-                       "needs critical_packing_fraction")
-    validate_material(disconnecting(cell_averaged_disconnection=True))  # accepted with it
 
 
 # --------------------------------------------------------------------------- Drucker–Prager
@@ -336,7 +241,7 @@ def test_drucker_prager_disconnected_below_the_critical_packing_recompacts_witho
     # and back near J = 1 the pressure is the elastic K ln(J_c / J) of the compaction beyond J_c.
     dt = 1e-3
     path = np.vstack([np.tile([0.5, 0.0, 0.0, 0.5, 0.5], (200, 1)), np.tile([-0.5, 0.0, 0.0, -0.5, -0.5], (200, 1))])
-    on = material_point({**dp(), "critical_packing_fraction": 0.55, "grain_density": 2500.0}, path, dt,
+    on = material_point({**dp(), "critical_packing_fraction": 0.55, "grain_density": 2500.0, "experimental": True}, path, dt,
                         [-2e3, -2e3, -2e3, 0.0])
     jc = 1550.0 / 2500.0 / 0.55
     J = np.cumprod((1.0 + path[:, 0] * dt) ** 3)
@@ -355,12 +260,13 @@ def test_drucker_prager_disconnected_below_the_critical_packing_recompacts_witho
     ({"critical_packing_fraction": 0.55}, "grain_density", "is required with critical_packing_fraction"),
 ])
 def test_drucker_prager_disconnection_input_errors_name_the_field(extra, field, message):
-    assert_named_error({**dp(), **extra}, field, message)
+    assert_named_error({**dp(), "experimental": True, **extra}, field, message)
 
 
 def jop_beads(**extra):
     """Drucker–Prager with Jop et al.'s glass-bead μ(I) (μ_s 0.3819, μ₂ 0.6435, I₀ 0.279)."""
-    return {**dp(0.3819), "inertial_friction": 0.6435, "grain_diameter": 1.15e-3, "grain_density": 2500.0, **extra}
+    return {**dp(0.3819), "inertial_friction": 0.6435, "grain_diameter": 1.15e-3, "grain_density": 2500.0,
+            "experimental": True, **extra}
 
 
 @pytest.mark.parametrize("section", [False, True])
@@ -393,3 +299,26 @@ def test_drucker_prager_mu_of_i_simple_shear_flows_at_the_friction_of_its_inerti
 def test_drucker_prager_mu_of_i_input_errors_name_the_field(extra, field, message):
     assert_named_error(jop_beads(**extra), field, message)
     validate_material(jop_beads(inertial_friction=1.2))  # μ₂ ≥ 1 is allowed on the circle
+
+
+# --------------------------------------------------------------------------- experimental options
+
+
+@pytest.mark.parametrize("material, key, what", [
+    (dict(dp(0.3819), inertial_friction=0.6435, grain_diameter=1.15e-3, grain_density=2500.0),
+     "inertial_friction", "is experimental"),
+    (dict(dp(), critical_packing_fraction=0.55, grain_density=2500.0), "critical_packing_fraction", "is experimental"),
+    (dict(mc(), critical_packing_fraction=0.55, grain_density=2500.0), "critical_packing_fraction", "is experimental"),
+    (dict(model="granular_fluidity", density=1550.0, youngs_modulus=E, poisson_ratio=NU), "model",
+     "granular_fluidity is experimental"),
+])
+def test_an_experimental_option_is_refused_without_the_opt_in(material, key, what):
+    message = f"{what} (measured, not validated): set experimental = true in [materials.material] to use it"
+    with pytest.raises(ScenarioError) as info:
+        validate_material(material)
+    assert info.value.errors == [(key, message)]
+    validate_material({**material, "experimental": True})  # accepted with it
+
+
+def test_the_opt_in_must_be_a_boolean():
+    assert_named_error({**dp(), "experimental": "yes"}, "experimental", "boolean")

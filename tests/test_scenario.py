@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from axmpm.scenario import RECOMPACTION_DEFAULT, Scenario, ScenarioError, apply_overrides, parse_value, read_toml
+from axmpm.scenario import Scenario, ScenarioError, apply_overrides, parse_value, read_toml
 
 from conftest import EXAMPLES, TINY_TOML
 
@@ -55,20 +55,15 @@ def test_mohr_coulomb_k0_default_is_jaky() -> None:
     s = Scenario.from_dict(data)
     assert s.bodies[0].k0 == pytest.approx(1 - math.sin(math.radians(30)))
     assert s.materials["soil"].dilation_angle == 0.0 and s.materials["soil"].tension_cutoff == 0.0
-    assert s.materials["soil"].recompaction is RECOMPACTION_DEFAULT
 
 
-@pytest.mark.parametrize("flag", ["true", "false"])
-def test_mohr_coulomb_recompaction_reaches_the_engine_json(flag: str) -> None:
-    data = apply_overrides(base(), MOHR_COULOMB + [f"materials.soil.recompaction={flag}"])
-    s = Scenario.from_dict(data)
-    assert s.materials["soil"].recompaction is (flag == "true")
-    assert json.loads(s.engine_json())["materials"]["soil"]["recompaction"] is (flag == "true")
-
-
-def test_recompaction_is_a_mohr_coulomb_key_only() -> None:
-    err = errors_for(["materials.soil.recompaction=true"])
-    assert any("recompaction" in k for k in err.keys), err.render()
+@pytest.mark.parametrize("key", ["recompaction", "cell_averaged_disconnection", "inertial_friction_angle"])
+def test_a_retired_mohr_coulomb_key_is_refused_by_name(key: str) -> None:
+    err = errors_for(MOHR_COULOMB + [f"materials.soil.{key}=true"])
+    assert err.errors == [(f"materials.soil.{key}",
+                           "is not a mohr_coulomb parameter (retired; see docs/studies/granular-variants.md)")]
+    # Another model does not know the key at all.
+    assert "unknown key" in dict(errors_for([f"materials.soil.{key}=true"]).errors)[f"materials.soil.{key}"]
 
 
 def test_explicit_k0_is_kept() -> None:
@@ -166,8 +161,6 @@ MC_CASES = [
     ("materials.soil.dilation_angle=31", "materials.soil.dilation_angle", "<= friction_angle"),
     ("materials.soil.cohesion=-1", "materials.soil.cohesion", ">= 0"),
     ("materials.soil.tension_cutoff=-1", "materials.soil.tension_cutoff", ">= 0"),
-    ("materials.soil.recompaction='yes'", "materials.soil.recompaction", "boolean"),
-    ("materials.soil.recompaction=1", "materials.soil.recompaction", "boolean"),
 ]
 
 

@@ -13,11 +13,7 @@ strain-driven engine: each step solves for the lateral strain rate that keeps th
 stress at the confining pressure (the response is piecewise linear in that rate, so a secant
 iteration converges in two or three evaluations). The material models are rate
 formulations (hypoelastic, Jaumann), so driving one step at a time from the previous
-stress is exact; only the accumulated state variables are summed here. The one exception is
-the Mohr–Coulomb ``recompaction`` option, whose ``opening_volumetric_strain`` feeds back into
-the stress update: it is not carried from one step to the next here (each step starts with no
-opening), which is harmless in drained compression (nothing separates). Use
-:func:`material_point` with the whole strain path for histories that separate and re-compact.
+stress is exact; only the accumulated state variables are summed here.
 """
 
 from __future__ import annotations
@@ -33,6 +29,7 @@ from pydantic import TypeAdapter, ValidationError
 from .engine import core
 from .errors import ScenarioError
 from .scenario import Material, MATERIAL_MODELS, convert_errors
+from .scenario.materials import engine_key_errors
 
 __all__ = ["material_point", "MaterialPointResponse", "validate_material", "drained_triaxial",
            "TriaxialResult", "yield_ratio"]
@@ -59,8 +56,10 @@ def validate_material(material: dict[str, Any] | Any) -> Any:
     except ValidationError as exc:
         errors = [(_strip_tag(key), msg) for key, msg in convert_errors(exc)]
         raise ScenarioError(errors, "material") from None
-    # the model's own cross checks (ψ ≤ φ, the μ(I) keys), keys without a prefix
-    errors = mat.cross_errors("")
+    # the model's own cross checks (ψ ≤ φ, the μ(I) keys) and the engine's refusal of
+    # experimental options without the opt-in, keys without a prefix
+    errors = mat.cross_errors("") + [(key.removeprefix("materials.material."), message)
+                                     for key, message in engine_key_errors("material", mat.model_dump(mode="json"))]
     if errors:
         raise ScenarioError(errors, "material")
     return mat

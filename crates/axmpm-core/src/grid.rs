@@ -73,6 +73,31 @@ impl GridGeometry {
         j * self.cells[0] + i
     }
 
+    /// Per background cell, Σ_p w_p into `weight_sum` and Σ_p (w a)_p / Σ_p w_p into `mean` (0
+    /// in empty cells), over the particles whose centre lies in the cell; `terms` gives
+    /// (w_p, w_p a_p) in particle order. The sums run in that order on one thread, so they do
+    /// not depend on the thread count.
+    pub fn cell_weighted_mean(
+        &self,
+        positions: &[[f64; 2]],
+        terms: impl Iterator<Item = (f64, f64)>,
+        weight_sum: &mut [f64],
+        mean: &mut [f64],
+    ) {
+        weight_sum.fill(0.0);
+        mean.fill(0.0);
+        for (x, (w, weighted)) in positions.iter().zip(terms) {
+            let cell = self.cell_index(*x);
+            weight_sum[cell] += w;
+            mean[cell] += weighted;
+        }
+        for (m, &w) in mean.iter_mut().zip(weight_sum.iter()) {
+            if w > 0.0 {
+                *m /= w;
+            }
+        }
+    }
+
     /// Cell containing a point, clamped to the grid.
     #[inline(always)]
     pub fn cell_of(&self, x: [f64; 2]) -> [usize; 2] {

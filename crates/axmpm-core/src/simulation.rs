@@ -148,46 +148,6 @@ impl Scheme {
     }
 }
 
-/// Where the fluidity equation holds g = 0: the grid faces and the walls that are rough
-/// (fixed or frictional; walls that are removed during the run are left out, as are roller
-/// faces and walls, and the axis), see [`crate::solver::FluidityBoundary`].
-fn fluidity_boundary(
-    grid: &GridGeometry,
-    b: &crate::config::BoundariesConfig,
-    walls: &[crate::config::WallConfig],
-    axisymmetric: bool,
-) -> crate::solver::FluidityBoundary {
-    use crate::config::{Axis, Condition, Side};
-    let rough = |c: Condition| matches!(c, Condition::Fixed | Condition::Friction);
-    let rough_faces = [
-        rough(b.left.condition) && !axisymmetric,
-        rough(b.right.condition),
-        rough(b.bottom.condition),
-        rough(b.top.condition),
-    ];
-    let walls: Vec<_> = walls.iter().filter(|w| rough(w.condition) && w.removal_time.is_none()).collect();
-    let mut rough_wall_cells = Vec::new();
-    if !walls.is_empty() {
-        let [nx, ny] = grid.cells;
-        rough_wall_cells = vec![false; nx * ny];
-        for j in 0..ny {
-            for i in 0..nx {
-                let centre = [grid.origin[0] + (i as f64 + 0.5) * grid.cell_size, grid.origin[1] + (j as f64 + 0.5) * grid.cell_size];
-                rough_wall_cells[j * nx + i] = walls.iter().any(|w| {
-                    let x = centre[match w.axis {
-                        Axis::X => 0,
-                        Axis::Y => 1,
-                    }];
-                    match w.material_side {
-                        Side::Positive => x < w.position,
-                        Side::Negative => x > w.position,
-                    }
-                });
-            }
-        }
-    }
-    crate::solver::FluidityBoundary { rough_faces, rough_wall_cells }
-}
 
 /// Whether `tiles` cover the particle arrays `0..n` in order, each tile non-empty.
 fn tiles_cover(tiles: &[Tile], n: usize) -> bool {
@@ -291,8 +251,6 @@ impl Simulation {
             volumetric_averaging: s.volumetric_averaging,
             axisymmetric,
             isa: crate::solver::Isa::detect(),
-            cell_jacobian: materials.iter().any(|m| m.needs_cell_jacobian()),
-            fluidity: materials.iter().any(|m| m.fluidity_slots().is_some()),
         };
         let mut constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.
@@ -336,9 +294,9 @@ impl Simulation {
             timings: Default::default(),
         };
         state.allocate_scratch();
-        if state.parameters.fluidity {
-            state.scratch.fluidity_boundary = fluidity_boundary(&grid, &config.boundaries, &config.walls, axisymmetric);
-        }
+        state.scratch.cell_laplacian = crate::material::CellLaplacian::of(&state.materials, &grid, || {
+            crate::material::FluidityBoundary::new(&grid, &config.boundaries, &config.walls, axisymmetric)
+        });
         // threads = 0: as many cores as the problem can use. Below ~10,000 particles per thread
         // the fork/join of each pass costs more than it saves. Results do not depend on it.
         let threads = if threads == 0 {
@@ -638,53 +596,5 @@ impl Simulation {
         let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps, c.tiles)))?;
         sim.state.constraints.restored_dissipation = c.boundary_dissipation;
         Ok(sim)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::config::{Axis, BoundariesConfig, BoundaryCondition, Condition, Side, WallConfig};
-
-    fn wall(axis: Axis, position: f64, material_side: Side, condition: Condition, removal_time: Option<f64>) -> WallConfig {
-        WallConfig { axis, position, material_side, condition, coefficient: 0.3, removal_time }
-    }
-
-    #[test]
-    fn fluidity_boundary_marks_rough_faces_and_the_cells_behind_rough_walls() {
-        // 8 × 5 cells of 0.25 m from (0.5, 1.0): cell centres x = 0.625 + 0.25 i, y = 1.125 +
-        // 0.25 j, exact in binary, so a wall through a centre tests the strict comparisons.
-        let grid = GridGeometry::new([0.5, 1.0], [2.0, 1.25], 0.25);
-        assert_eq!(grid.cells, [8, 5]);
-        let faces = BoundariesConfig {
-            left: BoundaryCondition::FIXED,
-            right: BoundaryCondition::ROLLER,
-            bottom: BoundaryCondition::friction(0.4),
-            top: BoundaryCondition::FREE,
-        };
-        let walls = [
-            // Material on the positive side of x = 1.125 (the centre of column i = 2): columns
-            // 0 and 1 lie behind it.
-            wall(Axis::X, 1.125, Side::Positive, Condition::Fixed, None),
-            // Material below y = 1.875 (the centre of row j = 3): row 4 lies behind it.
-            wall(Axis::Y, 1.875, Side::Negative, Condition::Friction, None),
-            // Smooth, or removed during the run: not rough.
-            wall(Axis::X, 2.0, Side::Negative, Condition::Roller, None),
-            wall(Axis::Y, 1.3, Side::Positive, Condition::Fixed, Some(0.0)),
-        ];
-        let plane = fluidity_boundary(&grid, &faces, &walls, false);
-        assert_eq!(plane.rough_faces, [true, false, true, false]);
-        let behind: Vec<bool> = (0..5).flat_map(|j| (0..8).map(move |i| i < 2 || j == 4)).collect();
-        assert_eq!(plane.rough_wall_cells, behind);
-        // In axisymmetry the left face is the axis, never rough.
-        let axisymmetric = fluidity_boundary(&grid, &faces, &walls, true);
-        assert_eq!(axisymmetric.rough_faces, [false, false, true, false]);
-        assert_eq!(axisymmetric.rough_wall_cells, behind);
-        // Without a rough wall the cell list stays empty; the faces alone.
-        let smooth = fluidity_boundary(&grid, &BoundariesConfig { right: BoundaryCondition::FIXED, ..faces.clone() }, &walls[2..], false);
-        assert_eq!(smooth.rough_faces, [true, true, true, false]);
-        assert!(smooth.rough_wall_cells.is_empty());
-        let top = BoundariesConfig { top: BoundaryCondition::friction(0.2), left: BoundaryCondition::FREE, ..faces.clone() };
-        assert_eq!(fluidity_boundary(&grid, &top, &[], false).rough_faces, [false, false, true, true]);
     }
 }

@@ -1,7 +1,6 @@
-//! The nonlocal granular fluidity model in a run (material/granular_fluidity.rs and the
-//! solver's cell Laplacian, solver/particle_update.rs): a collapsing column of glass beads,
-//! bit-for-bit independent of the thread count, its fluidity nonlocal (the Laplacian written to
-//! the particles and changing the flow), and its energy budget closed.
+//! The nonlocal granular fluidity model in a run (material/granular_fluidity/ with its cell
+//! Laplacian): a collapsing column of glass beads, bit-for-bit independent of the thread count,
+//! its fluidity nonlocal (the Laplacian changing the flow), and its energy budget closed.
 
 mod common;
 use axmpm_core::config::*;
@@ -18,7 +17,8 @@ fn beads(formulation: FormulationKind, amplitude: f64) -> Config {
         .set("friction_rate", 0.9377)
         .set("nonlocal_amplitude", amplitude)
         .set("grain_diameter", 4e-3)
-        .set("grain_density", 2500.0);
+        .set("grain_density", 2500.0)
+        .set("experimental", true);
     cfg.materials.clear();
     cfg.materials.insert("beads".into(), beads);
     cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.48, 0.3], cell_size: 0.01 };
@@ -67,14 +67,9 @@ fn the_column_flows_its_fluidity_diffuses_and_the_energy_budget_closes() {
         let mut sim = Simulation::new(beads(f, 0.48), 1).unwrap();
         sim.advance(0.15, u64::MAX).unwrap();
         let g = state_column(&sim, "fluidity");
-        let sum = state_column(&sim, "fluidity_neighbour_sum");
-        let diagonal = state_column(&sim, "fluidity_diagonal");
+        assert_eq!(sim.state_names(), ["fluidity", "plastic_shear_strain", "plastic_work"], "no solver scratch in the state");
         assert!(g.iter().all(|&g| g >= 0.0 && g.is_finite()), "{f:?}: the fluidity stays ≥ 0");
         assert!(g.iter().any(|&g| g > 1.0), "{f:?}: the column flows (g up to {})", g.iter().cloned().fold(0.0, f64::max));
-        // The solver wrote each particle's cell stencil: neighbours with fluidity somewhere, D at
-        // most 4 faces of weight ≤ 2 (radial faces weigh (r ± h/2)/r ≤ 2), over h² = 1e-4 m².
-        assert!(sum.iter().any(|&s| s > 0.0), "{f:?}");
-        assert!(diagonal.iter().all(|&d| (0.0..=8.0e4 + 1e-9).contains(&d)) && diagonal.iter().any(|&d| d > 0.0), "{f:?}");
         let e = sim.energies();
         // Measured at 0.15 s: plastic 57 % (plane strain) and 51 % (axisymmetric) of the released energy.
         assert!(e.plastic_work > 0.3 * e.gravity_work, "{f:?}: {e:?}");

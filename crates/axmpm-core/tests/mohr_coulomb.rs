@@ -1,6 +1,6 @@
 //! A Mohr–Coulomb body through `Simulation`: masses from the model's density, the geostatic
 //! initial stress with the default K0 = ν/(1 − ν) read from the material table, and a column
-//! that stands on a fixed base (rate-independent and μ(I) variants).
+//! that stands on a fixed base.
 
 mod common;
 use axmpm_core::config::*;
@@ -10,13 +10,10 @@ use common::*;
 const RHO: f64 = 1550.0;
 const G: f64 = 9.81;
 
-fn sand_column(formulation: FormulationKind, inertial: bool) -> Config {
+fn sand_column(formulation: FormulationKind) -> Config {
     let mut cfg = block(formulation, ShapeFunctionKind::Linear, [0.0, -G], [0.0, 0.0]);
     let mut sand = MaterialConfig::elastic("mohr_coulomb", RHO, 5e6, 0.25);
     sand.set("friction_angle", 35.0).set("dilation_angle", 0.0).set("cohesion", 2e3);
-    if inertial {
-        sand.set("inertial_friction_angle", 45.0).set("grain_diameter", 1e-3).set("grain_density", 2600.0);
-    }
     cfg.materials.clear();
     cfg.materials.insert("sand".into(), sand);
     cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.6, 0.6], cell_size: 0.05 };
@@ -35,11 +32,11 @@ fn sand_column(formulation: FormulationKind, inertial: bool) -> Config {
 #[test]
 fn a_confined_mohr_coulomb_column_keeps_its_geostatic_stress() {
     for formulation in ALL_FORMULATIONS {
-        for inertial in [false, true] {
-            let mut sim = Simulation::new(sand_column(formulation, inertial), 1).unwrap();
+        {
+            let mut sim = Simulation::new(sand_column(formulation), 1).unwrap();
             let names = sim.state_names().to_vec();
             assert_eq!(&names[..2], ["plastic_shear_strain", "plastic_volumetric_strain"]);
-            assert_eq!(names.len(), if inertial { 4 } else { 3 }); // + plastic_work (+ inertial_number)
+            assert_eq!(names.len(), 3); // + plastic_work
             // Mass ρ A per metre, ρ ∫ r dA per radian.
             let mass: f64 = sim.particles().mass.iter().sum();
             let expect = match formulation {
@@ -61,7 +58,7 @@ fn a_confined_mohr_coulomb_column_keeps_its_geostatic_stress() {
                     }
                 }
                 let error = (num / den).sqrt();
-                assert!(error < tolerance, "{formulation:?} μ(I) {inertial}: geostatic stress error {error:.4}");
+                assert!(error < tolerance, "{formulation:?}: geostatic stress error {error:.4}");
             };
             check(&sim, 1e-12);
             // At K0 = 1/3 with φ = 35° and c = 2 kPa the column is elastic and stays put.

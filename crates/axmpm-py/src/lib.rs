@@ -254,11 +254,21 @@ fn material_response<'py>(
             (1.0 + dt * g[4]) * f[4],
         ];
         let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
-        model.update_stress(&mut stress, &mut state, &Kinematics { velocity_gradient: g, deformation_gradient: f, jacobian, cell_jacobian: jacobian, dt });
+        model.update_stress(&mut stress, &mut state, &Kinematics { velocity_gradient: g, deformation_gradient: f, jacobian, cell_field: [0.0; 2], dt });
         stresses.extend_from_slice(&stress);
         states.extend_from_slice(&state);
     }
     Ok((stresses.into_pyarray(py).reshape([steps, 4])?, states.into_pyarray(py).reshape([steps, k])?, names))
+}
+
+/// material_key_errors(name, material_json) -> [(key, message)]: the engine's refusals of the
+/// retired and experimental keys of one material table (`material::status`), for the
+/// scenario front end to report next to its own checks; empty for an unknown model.
+#[pyfunction]
+fn material_key_errors(name: &str, material_json: &str) -> PyResult<Vec<(String, String)>> {
+    let config: MaterialConfig =
+        serde_json::from_str(material_json).map_err(|e| PyValueError::new_err(format!("material: {e}")))?;
+    Ok(material::status::key_errors(&material::Parameters::new(name, &config.parameters), &config.model))
 }
 
 /// catalogue() -> {"formulations", "interpolation_schemes", "material_models", "region_shapes"}:
@@ -286,6 +296,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material_response, m)?)?;
     m.add_function(wrap_pyfunction!(catalogue, m)?)?;
     m.add_function(wrap_pyfunction!(instruction_set, m)?)?;
+    m.add_function(wrap_pyfunction!(material_key_errors, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -24,7 +24,7 @@ from .fields import GRID_TOLERANCE
 from .files import apply_overrides, parse_value, read_toml
 from .materials import MATERIAL_MODELS, ElasticMaterial, MaterialModel, register_material
 from .materials.linear_elastic import LinearElastic
-from .materials.mohr_coulomb import RECOMPACTION_DEFAULT, MohrCoulomb
+from .materials.mohr_coulomb import MohrCoulomb
 from .materials.neo_hookean import NeoHookean
 from .messages import convert_errors
 from .model import Body, Material, Scenario, schema_json
@@ -56,7 +56,6 @@ __all__ = [
     "Wall",
     "ScenarioError",
     "GRID_TOLERANCE",
-    "RECOMPACTION_DEFAULT",
     "apply_overrides",
     "parse_value",
     "read_toml",

@@ -9,7 +9,7 @@ from pydantic import BaseModel, ValidationError
 
 from .boundaries import Boundaries, BoundaryCondition, Wall
 from .fields import did_you_mean
-from .materials import MATERIAL_MODELS, MaterialModel, model_names
+from .materials import MATERIAL_MODELS, MaterialModel, engine_key_errors, model_names
 from .regions import REGION_SHAPES, shape_names
 from .rigid_bodies import RigidBody
 from .sections import Grid, Simulation
@@ -66,6 +66,19 @@ def dotted(loc: tuple[Any, ...]) -> str:
     return ".".join(str(p) for p in parts)
 
 
+def _retired_message(loc: tuple[Any, ...], value: Any) -> str | None:
+    """The engine's message for an unknown key that a material model no longer has (``loc`` =
+    materials, NAME, MODEL, KEY in a scenario; MODEL, KEY for one material table), else None."""
+    if len(loc) == 4 and loc[0] == "materials":
+        name, model = str(loc[1]), str(loc[2])
+    elif len(loc) == 2 and str(loc[0]) in MATERIAL_MODELS:
+        name, model = "material", str(loc[0])
+    else:
+        return None
+    found = engine_key_errors(name, {"model": model, str(loc[-1]): value})
+    return found[0][1] if found else None
+
+
 def convert_errors(exc: ValidationError, root: type[BaseModel] | None = None) -> list[tuple[str, str]]:
     """One ``(dotted key, message)`` per error of ``exc``; ``root`` is the model of the whole
     document (the scenario), whose fields an unknown top-level key is compared with."""
@@ -80,7 +93,10 @@ def convert_errors(exc: ValidationError, root: type[BaseModel] | None = None) ->
             model = _model_at(loc[:-1], root)
             fields = list(model.model_fields) if model else []
             msg = "unknown key" + did_you_mean(loc[-1], fields)
-            if model is not None and issubclass(model, MaterialModel):
+            retired = _retired_message(loc, value)
+            if retired is not None:
+                msg = retired
+            elif model is not None and issubclass(model, MaterialModel):
                 owners = [n for n in model_names() if loc[-1] in MATERIAL_MODELS[n].model_fields]
                 if owners and "did you mean" not in msg:
                     msg += f" (only valid for model = {' or '.join(repr(o) for o in owners)})"

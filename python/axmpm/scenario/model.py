@@ -23,7 +23,7 @@ from .bodies import GridFrame, overlaps
 from .boundaries import Boundaries, Wall
 from .fields import GRID_TOLERANCE, MAX_CELLS_PER_AXIS, MAX_OUTPUTS, Section, did_you_mean, fmt, on_grid_line
 from .files import apply_overrides, drop_none, inline_short_arrays, read_toml
-from .materials import material_type
+from .materials import engine_key_errors, material_type
 from .messages import convert_errors
 from .regions import body_type
 from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
@@ -206,6 +206,7 @@ def cross_check_parts(
         for name, mat in materials.items():
             if mat is not None:
                 errors.extend(mat.cross_errors(f"materials.{name}."))
+                errors.extend(engine_key_errors(name, mat.model_dump(mode="json")))
 
     if bodies is not None:
         if not bodies:

@@ -75,14 +75,7 @@ mod tests {
     use super::*;
 
     fn kin(l: [f64; 5], dt: f64) -> Kinematics {
-        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, cell_jacobian: 1.0, dt }
-    }
-
-    /// A model that does not read the cells' mean J does not ask the solver for it (the
-    /// trait's default; the solver then skips that pass).
-    #[test]
-    fn does_not_ask_for_the_cell_jacobian() {
-        assert!(!LinearElastic::new(2000.0, 10e6, 0.25).needs_cell_jacobian());
+        Kinematics { velocity_gradient: l, deformation_gradient: [1.0, 0.0, 0.0, 1.0, 1.0], jacobian: 1.0, cell_field: [0.0; 2], dt }
     }
 
     #[test]

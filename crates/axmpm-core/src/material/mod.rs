@@ -17,15 +17,16 @@ pub mod linear_elastic;
 pub mod mohr_coulomb;
 pub mod mu_i;
 pub mod neo_hookean;
+pub mod status;
 pub mod von_mises;
 #[cfg(test)]
 pub mod testing;
 
 pub use drucker_prager::DruckerPrager;
+pub use granular_fluidity::laplacian::{CellLaplacian, FluidityBoundary};
 pub use granular_fluidity::GranularFluidity;
 pub use linear_elastic::LinearElastic;
 pub use mohr_coulomb::MohrCoulomb;
-pub use mu_i::InertialMohrCoulomb;
 pub use neo_hookean::NeoHookean;
 pub use von_mises::VonMises;
 
@@ -39,11 +40,9 @@ pub struct Kinematics {
     pub deformation_gradient: DeformationGradient,
     /// Jacobian det F at the end of the step (3D, including F33).
     pub jacobian: f64,
-    /// Σ V / Σ V0 of the particles whose centre lies in this particle's background cell, at
-    /// the start of the step (the cell's mean J, whose packing φ0/J̄ is the continuum's); the
-    /// solver computes it only when a material asks ([`Material::needs_cell_jacobian`]),
-    /// and passes `jacobian` otherwise.
-    pub cell_jacobian: f64,
+    /// The model's [`Material::cell_field`] at the particle's start-of-step background cell
+    /// (zeros for a model that asks for none).
+    pub cell_field: [f64; 2],
     pub dt: f64,
 }
 
@@ -53,9 +52,18 @@ impl Kinematics {
         velocity_gradient: [0.0; 5],
         deformation_gradient: [0.0; 5],
         jacobian: 0.0,
-        cell_jacobian: 0.0,
+        cell_field: [0.0; 2],
         dt: 0.0,
     };
+}
+
+/// A field the solver computes over the background cells for a model that asks for it
+/// ([`Material::cell_field`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CellField {
+    /// The five-point Laplacian of the volume-weighted cell mean of state slot `slot`,
+    /// ∇²ḡ = S − D ḡ, handed over as [S, D] ([`granular_fluidity::laplacian`]).
+    Laplacian { slot: usize },
 }
 
 pub trait Material: Send + Sync {
@@ -81,18 +89,9 @@ pub trait Material: Send + Sync {
     /// (mohr_coulomb.rs, "Dilute material and the time step").
     fn limit_wave_speed(&mut self, _max_wave_speed: f64) {}
 
-    /// The model reads [`Kinematics::cell_jacobian`] (Mohr–Coulomb's
-    /// `cell_averaged_disconnection`): the solver then computes the cells' mean J each step.
-    fn needs_cell_jacobian(&self) -> bool {
-        false
-    }
-
-    /// The state slots `[g, S, D]` of a model with a nonlocal fluidity (granular_fluidity.rs):
-    /// before each step's particle update the solver averages g per background cell and
-    /// writes the five-point Laplacian of the cell means at the particle's cell, split as
-    /// ∇²g = S − D ḡ (S the neighbours' weighted sum, D the cell's own weight, both over h²),
-    /// into the last two slots (the update pass itself, and so every other model, is untouched).
-    fn fluidity_slots(&self) -> Option<[usize; 3]> {
+    /// The field over the background cells this model reads in [`Kinematics::cell_field`]
+    /// (the solver computes it at the start of each step); `None` for a purely local model.
+    fn cell_field(&self) -> Option<CellField> {
         None
     }
 
@@ -289,6 +288,11 @@ impl<'a> Parameters<'a> {
         Ok(Some(phi0 / phi_c))
     }
 
+    /// The key is in the table with a value other than `null`.
+    pub fn is_given(&self, key: &str) -> bool {
+        !matches!(self.table.get(key), None | Some(Value::Null))
+    }
+
     /// A number, `default` when not given.
     pub fn f64_or(&self, key: &str, default: f64) -> Result<f64, String> {
         Ok(self.optional_f64(key)?.unwrap_or(default))
@@ -345,7 +349,6 @@ pub type ModelBuilder = fn(&Parameters) -> Result<Box<dyn Material>, String>;
 pub const MODELS: &[(&str, ModelBuilder)] = &[
     ("linear_elastic", linear_elastic::build),
     ("neo_hookean", neo_hookean::build),
-    // An `inertial_friction_angle` makes the friction angle follow μ(I) (mu_i.rs).
     ("mohr_coulomb", mohr_coulomb::build),
     ("von_mises", von_mises::build),
     // Nonlocal granular fluidity (Henann & Kamrin 2013).
@@ -363,7 +366,10 @@ pub fn model_names() -> Vec<&'static str> {
 pub fn build(name: &str, config: &MaterialConfig) -> Result<Box<dyn Material>, String> {
     let parameters = Parameters::new(name, &config.parameters);
     match MODELS.iter().find(|(model, _)| *model == config.model) {
-        Some((_, builder)) => builder(&parameters),
+        Some((model, builder)) => {
+            status::check(&parameters, model)?;
+            builder(&parameters)
+        }
         None => Err(parameters.error(
             "model",
             format!("unknown model '{}' (known: {})", config.model, model_names().join(", ")),
@@ -401,13 +407,21 @@ mod tests {
                              ("grain_diameter", 1e-3), ("grain_density", 2500.0)] {
             config.set(key, value);
         }
+        // The registry refuses an experimental model or option without the opt-in, and a retired key.
+        config.model = "granular_fluidity".into();
+        assert!(build("sand", &config).err().unwrap().starts_with("materials.sand.model: granular_fluidity is experimental"));
+        config.model = "mohr_coulomb".into();
+        config.set("recompaction", false);
+        assert!(build("sand", &config).err().unwrap().starts_with("materials.sand.recompaction: is not a mohr_coulomb parameter"));
+        config.parameters.remove("recompaction");
+        config.set("experimental", true);
         for name in model_names() {
             config.model = name.into();
             let m = build("sand", &config).unwrap();
             assert_eq!(m.model(), name);
             assert_eq!(m.density(), 1550.0);
-            // Only the nonlocal model asks the solver for the fluidity Laplacian.
-            assert_eq!(m.fluidity_slots().is_some(), name == "granular_fluidity", "{name}");
+            // Only the nonlocal model asks the solver for a cell field.
+            assert_eq!(m.cell_field().is_some(), name == "granular_fluidity", "{name}");
         }
         config.model = "cam_clay".into();
         assert_eq!(
@@ -419,13 +433,13 @@ mod tests {
     #[test]
     fn material_config_keeps_the_json_shape() {
         let text = r#"{"model": "mohr_coulomb", "density": 1550.0, "youngs_modulus": 1e6, "poisson_ratio": 0.3,
-            "friction_angle": 30.0, "dilation_angle": null, "recompaction": true}"#;
+            "friction_angle": 30.0, "dilation_angle": null, "tension_cutoff": 5.0}"#;
         let config: MaterialConfig = serde_json::from_str(text).unwrap();
         assert_eq!(config.model, "mohr_coulomb");
         assert_eq!(config.parameters["friction_angle"], json!(30.0));
         assert!(!config.parameters.contains_key("model"));
         let again: MaterialConfig = serde_json::from_str(&serde_json::to_string(&config).unwrap()).unwrap();
         assert_eq!(again.parameters, config.parameters);
-        assert_eq!(build("sand", &config).unwrap().state_names().len(), 4); // plastic shear, plastic volumetric, opening, plastic work
+        assert_eq!(build("sand", &config).unwrap().state_names().len(), 3); // plastic shear, plastic volumetric, plastic work
     }
 }

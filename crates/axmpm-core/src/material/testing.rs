@@ -52,7 +52,7 @@ pub fn principal_stresses(s: &Stress) -> [f64; 3] {
 
 /// Kinematics of one step with velocity gradient `l` and F = I (for models that do not read F).
 pub fn kinematics(l: [f64; 5], dt: f64) -> Kinematics {
-    Kinematics { velocity_gradient: l, deformation_gradient: IDENTITY_F, jacobian: 1.0, cell_jacobian: 1.0, dt }
+    Kinematics { velocity_gradient: l, deformation_gradient: IDENTITY_F, jacobian: 1.0, cell_field: [0.0; 2], dt }
 }
 
 /// Isotropic elastic stiffness in principal space, D v = λ tr(v) 1 + 2μ v.
@@ -167,7 +167,7 @@ impl MaterialPoint {
         ];
         self.deformation_gradient = f;
         let jacobian = (f[0] * f[3] - f[1] * f[2]) * f[4];
-        let k = Kinematics { velocity_gradient: l, deformation_gradient: f, jacobian, cell_jacobian: jacobian, dt };
+        let k = Kinematics { velocity_gradient: l, deformation_gradient: f, jacobian, cell_field: [0.0; 2], dt };
         material.update_stress(&mut self.stress, &mut self.state, &k);
     }
 

@@ -45,23 +45,9 @@ pub struct Scratch {
     pub velocity_gradient: Vec<[f64; 5]>,
     pub cell_volume: Vec<f64>,
     pub cell_dilatation: Vec<f64>,
-    /// A material reads the cells' mean J ([`crate::material::Material::needs_cell_jacobian`]):
-    /// per background cell Σ V0 and then Σ V / Σ V0 of the particles whose centre lies in it,
-    /// at the start of the step.
-    pub cell_initial_volume: Vec<f64>,
-    pub cell_jacobian: Vec<f64>,
-    /// A material keeps a nonlocal fluidity ([`crate::material::Material::fluidity_slot`]):
-    /// per background cell Σ V, then the V-weighted mean fluidity, then its Laplacian's
-    /// neighbour sum and diagonal, at the start of the step
-    /// (`particle_update::fluidity_stencil_of_cells`).
-    pub cell_fluidity_volume: Vec<f64>,
-    pub cell_fluidity: Vec<f64>,
-    pub cell_fluidity_neighbours: Vec<f64>,
-    pub cell_fluidity_diagonal: Vec<f64>,
-    /// Each material's fluidity slots (set up with the run).
-    pub fluidity_slots: Vec<Option<[usize; 3]>>,
-    /// Where the fluidity is held at zero (rough walls; set up with the run).
-    pub fluidity_boundary: FluidityBoundary,
+    /// The cell field a material asks for ([`crate::material::Material::cell_field`]), with
+    /// its arrays (set up with the run; `None`: no material asks).
+    pub cell_laplacian: Option<crate::material::CellLaplacian>,
     /// Nodes the particles reached in the last particle → grid: every grid field is +0
     /// outside this box (the grid passes write nothing else there, and constraints keep a
     /// zero velocity zero).
@@ -69,18 +55,6 @@ pub struct Scratch {
     /// Nodes the grid passes of this step work on: this step's reach together with the last
     /// step's, whose fields must be brought back to zero where the particles left.
     pub grid_region: NodeBox,
-}
-
-/// The boundary condition of the fluidity equation: g = 0 on rough boundaries (fixed or
-/// frictional: the grains there cannot move cooperatively with the flow), ∂g/∂n = 0 elsewhere
-/// (free surfaces, smooth walls, the axis). Used by `particle_update::fluidity_stencil_of_cells`.
-#[derive(Clone, Debug, Default)]
-pub struct FluidityBoundary {
-    /// The grid's faces [left, right, bottom, top] that are rough.
-    pub rough_faces: [bool; 4],
-    /// Per background cell: the cell lies behind a rough wall (on its side away from the
-    /// material); empty when no wall is rough.
-    pub rough_wall_cells: Vec<bool>,
 }
 
 /// Parameters of the step that do not change during a run.
@@ -97,10 +71,6 @@ pub struct StepParameters {
     pub axisymmetric: bool,
     /// Instruction set of the passes' loops ([`isa`]; results do not depend on it).
     pub isa: Isa,
-    /// Some material reads [`crate::material::Kinematics::cell_jacobian`].
-    pub cell_jacobian: bool,
-    /// Some material keeps a fluidity ([`crate::material::Material::fluidity_slots`]).
-    pub fluidity: bool,
 }
 
 /// Everything the step mutates or reads.
@@ -203,19 +173,6 @@ impl State {
             self.scratch.velocity_gradient = vec![[0.0; 5]; n];
             self.scratch.cell_volume = vec![0.0; cells];
             self.scratch.cell_dilatation = vec![0.0; cells];
-        }
-        if self.parameters.cell_jacobian {
-            let cells = self.grid.cells[0] * self.grid.cells[1];
-            self.scratch.cell_initial_volume = vec![0.0; cells];
-            self.scratch.cell_jacobian = vec![0.0; cells];
-        }
-        if self.parameters.fluidity {
-            let cells = self.grid.cells[0] * self.grid.cells[1];
-            self.scratch.cell_fluidity_volume = vec![0.0; cells];
-            self.scratch.cell_fluidity = vec![0.0; cells];
-            self.scratch.cell_fluidity_neighbours = vec![0.0; cells];
-            self.scratch.cell_fluidity_diagonal = vec![0.0; cells];
-            self.scratch.fluidity_slots = self.materials.iter().map(|m| m.fluidity_slots()).collect();
         }
     }
 

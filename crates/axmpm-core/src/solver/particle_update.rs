@@ -9,7 +9,7 @@ use crate::config::{UpdateScheme, VolumetricAveraging};
 use crate::formulation::Formulation;
 use crate::grid::{GridBounds, GridGeometry};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
-use crate::material::{Kinematics, Material};
+use crate::material::{CellLaplacian, Kinematics, Material};
 use crate::particles::{DeformationGradient, Particles, Stress};
 
 /// Particles per parallel work item of the update pass.
@@ -34,8 +34,8 @@ struct UpdateInputs<'a> {
     velocity: &'a [[f64; 2]],
     displacement: &'a [[f64; 2]],
     isa: Isa,
-    /// Per background cell Σ V / Σ V0 at the start of the step (empty: not needed).
-    cell_jacobian: &'a [f64],
+    /// The cell pass a model asked for ([`Material::cell_field`]), computed for this step.
+    cell_laplacian: Option<&'a CellLaplacian>,
 }
 
 /// The read-only per-particle inputs of one chunk of the update pass, as slices of the chunk's
@@ -122,12 +122,8 @@ fn move_particle<F: Formulation, S: ShapeFunction>(
     l: [f64; 5],
 ) -> Kinematics {
     let grid = &inputs.grid;
-    // The cell mean J of the particle's start-of-step cell, when a material reads it.
-    let cell_jacobian = if inputs.cell_jacobian.is_empty() {
-        None
-    } else {
-        Some(inputs.cell_jacobian[grid.cell_index(*u.position)])
-    };
+    // The cell field at the particle's start-of-step cell, when a model reads one.
+    let cell_field = inputs.cell_laplacian.map_or([0.0; 2], |cells| cells.at(grid.cell_index(*u.position)));
     let dt = inputs.dt;
     // F ← (I + Δt L) F in-plane; F33 ← (1 + Δt L33) F33.
     let f = u.f;
@@ -151,8 +147,7 @@ fn move_particle<F: Formulation, S: ShapeFunction>(
         }
         None => chunk.initial_volume[i] * jacobian,
     };
-    let cell_jacobian = cell_jacobian.unwrap_or(jacobian);
-    Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, cell_jacobian, dt }
+    Kinematics { velocity_gradient: l, deformation_gradient: *f, jacobian, cell_field, dt }
 }
 
 /// Whether particle `p` (index `i` in `chunk`) is valid after its update: position, stress and
@@ -237,29 +232,13 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         velocity_gradient: gradients,
         cell_volume,
         cell_dilatation,
-        cell_initial_volume,
-        cell_jacobian,
-        cell_fluidity_volume,
-        cell_fluidity,
-        cell_fluidity_neighbours,
-        cell_fluidity_diagonal,
-        fluidity_slots,
-        fluidity_boundary,
+        cell_laplacian,
         ..
     } = &mut state.scratch;
     let particles = &mut state.particles;
-    if state.parameters.cell_jacobian {
-        cell_mean_jacobian(&state.grid, particles, cell_initial_volume, cell_jacobian, &mut state.timings.serial);
-    }
-    if state.parameters.fluidity {
+    if let Some(cells) = cell_laplacian.as_mut() {
         let serial_start = std::time::Instant::now();
-        let cells = FluidityCells {
-            volume: cell_fluidity_volume,
-            fluidity: cell_fluidity,
-            neighbour_sum: cell_fluidity_neighbours,
-            diagonal: cell_fluidity_diagonal,
-        };
-        fluidity_stencil_of_cells::<F>(&state.grid, particles, fluidity_slots, fluidity_boundary, cells);
+        cells.compute::<F>(&state.grid, particles);
         state.timings.serial += serial_start.elapsed().as_secs_f64();
     }
     // At least one state slot per particle (set up in `Simulation::build`), so the zipped
@@ -285,7 +264,7 @@ pub(super) fn update_particles<F: Formulation, S: ShapeFunction>(
         velocity: &particles.velocity,
         displacement,
         isa: state.parameters.isa,
-        cell_jacobian,
+        cell_laplacian: cell_laplacian.as_ref(),
     };
     let source = if averaging {
         let serial = &mut state.timings.serial;
@@ -456,137 +435,8 @@ fn cell_averaged_gradients<F: Formulation, S: ShapeFunction>(
     });
     let serial_start = std::time::Instant::now();
     let terms = particles.volume.iter().zip(gradients.iter()).map(|(&v, l)| (v, v * dilatation(l)));
-    cell_weighted_mean(&inputs.grid, &particles.position, terms, cell_volume, cell_dilatation);
+    inputs.grid.cell_weighted_mean(&particles.position, terms, cell_volume, cell_dilatation);
     *serial_seconds += serial_start.elapsed().as_secs_f64();
-}
-
-/// Per background cell, Σ_p w_p into `weight_sum` and Σ_p (w a)_p / Σ_p w_p into `mean` (0 in
-/// empty cells), over the particles whose centre lies in the cell; `terms` gives (w_p, w_p a_p)
-/// in particle order. The sums run in that order on one thread, so they do not depend on the
-/// thread count.
-fn cell_weighted_mean(
-    grid: &GridGeometry,
-    positions: &[[f64; 2]],
-    terms: impl Iterator<Item = (f64, f64)>,
-    weight_sum: &mut [f64],
-    mean: &mut [f64],
-) {
-    weight_sum.fill(0.0);
-    mean.fill(0.0);
-    for (x, (w, weighted)) in positions.iter().zip(terms) {
-        let cell = grid.cell_index(*x);
-        weight_sum[cell] += w;
-        mean[cell] += weighted;
-    }
-    for (m, &w) in mean.iter_mut().zip(weight_sum.iter()) {
-        if w > 0.0 {
-            *m /= w;
-        }
-    }
-}
-
-/// Σ V / Σ V0 of the particles whose centre lies in each background cell, at the start of the
-/// step, into `cell_jacobian` (0 in empty cells): the cell's mean J, V0-weighted, i.e. its
-/// packing φ0 Σ V0 / Σ V as a continuum density (Mohr–Coulomb `cell_averaged_disconnection`).
-/// Sums in particle order on one thread: independent of the thread count.
-fn cell_mean_jacobian(
-    grid: &GridGeometry,
-    particles: &Particles,
-    cell_initial_volume: &mut [f64],
-    cell_jacobian: &mut [f64],
-    serial_seconds: &mut f64,
-) {
-    let serial_start = std::time::Instant::now();
-    let terms = particles.initial_volume.iter().zip(&particles.volume).map(|(&v0, &v)| (v0, v));
-    cell_weighted_mean(grid, &particles.position, terms, cell_initial_volume, cell_jacobian);
-    *serial_seconds += serial_start.elapsed().as_secs_f64();
-}
-
-/// The cell arrays of the fluidity field.
-pub(crate) struct FluidityCells<'a> {
-    pub volume: &'a mut [f64],
-    pub fluidity: &'a mut [f64],
-    pub neighbour_sum: &'a mut [f64],
-    pub diagonal: &'a mut [f64],
-}
-
-/// Per background cell the volume-weighted mean fluidity ḡ = Σ V g / Σ V of the particles
-/// whose centre lies in it and whose material keeps a fluidity (`slots`: the [g, S, D] slots
-/// of each material's state), then the five-point Laplacian of ḡ over the cells (the
-/// finite-volume form of the fluidity equation's ∇²g, granular_fluidity.rs) split as
-/// ∇²g = S − D ḡ: S the neighbours' weighted sum and D the weight of the cell itself, both
-/// over h² (0 in empty cells), into `cells`, and S and D of each such particle's cell into its
-/// state (its material relaxes g with the diagonal term implicit, which keeps g ≥ 0).
-/// Across each face of a cell that holds material: to a cell that holds material, weight 1
-/// on both; to a cell behind a rough boundary, g = 0 on the face (a mirror value −ḡ: weight
-/// 2 on the cell, nothing from the neighbour); to anything else (an empty cell: the free
-/// surface; a smooth wall; the axis) no flux. In axisymmetry the radial faces weigh their
-/// radius over the cell's, (1/r) ∂/∂r (r ∂g/∂r), with r = x (the axis on x = 0).
-/// Sums in particle order on one thread: independent of the thread count.
-pub(crate) fn fluidity_stencil_of_cells<F: Formulation>(
-    grid: &GridGeometry,
-    particles: &mut Particles,
-    slots: &[Option<[usize; 3]>],
-    boundary: &super::FluidityBoundary,
-    cells: FluidityCells,
-) {
-    let FluidityCells { volume, fluidity, neighbour_sum, diagonal } = cells;
-    let stride = particles.state_stride;
-    let terms = particles.volume.iter().zip(&particles.material).enumerate().map(|(p, (&v, &id))| {
-        match slots[id as usize] {
-            Some([k, _, _]) => (v, v * particles.state[p * stride + k]),
-            None => (0.0, 0.0),
-        }
-    });
-    cell_weighted_mean(grid, &particles.position, terms, volume, fluidity);
-    let [nx, ny] = grid.cells;
-    let h = grid.cell_size;
-    let inverse_area = 1.0 / (h * h);
-    let walls = &boundary.rough_wall_cells;
-    for j in 0..ny {
-        for i in 0..nx {
-            let c = j * nx + i;
-            if !(volume[c] > 0.0) {
-                neighbour_sum[c] = 0.0;
-                diagonal[c] = 0.0;
-                continue;
-            }
-            // One face of weight `w` to the neighbour `neighbour` inside the grid, or beyond
-            // the grid's face `face`: (the neighbour's share of S, the share of D).
-            let across = |neighbour: Option<usize>, face: usize, w: f64| -> (f64, f64) {
-                match neighbour {
-                    Some(n) if volume[n] > 0.0 => (w * fluidity[n], w),
-                    Some(n) if !walls.is_empty() && walls[n] => (0.0, 2.0 * w),
-                    Some(_) => (0.0, 0.0),
-                    None if boundary.rough_faces[face] => (0.0, 2.0 * w),
-                    None => (0.0, 0.0),
-                }
-            };
-            // Face radii over the centre radius, (x_c ∓ h/2) / x_c, in axisymmetry.
-            let (w_west, w_east) = if F::AXISYMMETRIC {
-                let r = grid.origin[0] + (i as f64 + 0.5) * h;
-                ((r - 0.5 * h) / r, (r + 0.5 * h) / r)
-            } else {
-                (1.0, 1.0)
-            };
-            let faces = [
-                across((i > 0).then(|| c - 1), 0, w_west),
-                across((i + 1 < nx).then_some(c + 1), 1, w_east),
-                across((j > 0).then(|| c - nx), 2, 1.0),
-                across((j + 1 < ny).then_some(c + nx), 3, 1.0),
-            ];
-            neighbour_sum[c] = (faces[0].0 + faces[1].0 + faces[2].0 + faces[3].0) * inverse_area;
-            diagonal[c] = (faces[0].1 + faces[1].1 + faces[2].1 + faces[3].1) * inverse_area;
-        }
-    }
-    let Particles { position, material, state, .. } = particles;
-    for ((x, &id), slots_of_particle) in position.iter().zip(material.iter()).zip(state.chunks_exact_mut(stride)) {
-        if let Some([_, s, d]) = slots[id as usize] {
-            let c = grid.cell_index(*x);
-            slots_of_particle[s] = neighbour_sum[c];
-            slots_of_particle[d] = diagonal[c];
-        }
-    }
 }
 
 #[cfg(test)]
@@ -824,7 +674,7 @@ mod tests {
             velocity: &c.velocity[start..],
             displacement: &c.displacement[start..],
             isa,
-            cell_jacobian: &[],
+            cell_laplacian: None,
         };
         let cache: Vec<LinearCache> = (0..c.f.len())
             .map(|i| {
@@ -919,7 +769,7 @@ mod tests {
             let mut stress = c0.stress[i];
             let mut state = c0.state[i * STRIDE..(i + 1) * STRIDE].to_vec();
             let kinematics =
-                Kinematics { velocity_gradient: l, deformation_gradient: f, jacobian, cell_jacobian: jacobian, dt: DT };
+                Kinematics { velocity_gradient: l, deformation_gradient: f, jacobian, cell_field: [0.0; 2], dt: DT };
             materials[id].update_stress(&mut stress, &mut state[..state_lengths[id]], &kinematics);
             for k in 0..4 {
                 assert!(close(c.stress[i][k], stress[k], 1e4), "{what}: stress {:?} vs {stress:?}", c.stress[i]);
@@ -992,157 +842,5 @@ mod tests {
         let mut c = c0.clone();
         c.velocity[first + n - 1][0] = f64::INFINITY;
         assert_eq!(run(&c), Some(Failure::NotFinite { particle: first + n - 1 }));
-    }
-
-    /// The cell mean J is Σ V / Σ V0 of the particles whose centre lies in the cell (the V0-
-    /// weighted mean of their J), 0 in empty cells.
-    #[test]
-    fn cell_mean_jacobian_is_the_cells_volume_ratio() {
-        let grid = GridGeometry::new([0.0, 0.0], [0.3, 0.2], 0.1); // 3 × 2 cells
-        let mut p = Particles::default();
-        // Cell (0, 0): J = 1 and 3 with V0 = 1 and 2 → (1 + 6)/3; cell (2, 1): J = 0.5 alone.
-        p.position = vec![[0.05, 0.05], [0.01, 0.09], [0.25, 0.15]];
-        p.initial_volume = vec![1.0, 2.0, 4.0];
-        p.volume = vec![1.0, 6.0, 2.0];
-        let (mut v0, mut j) = (vec![0.0; 6], vec![0.0; 6]);
-        let mut serial = 1.0;
-        cell_mean_jacobian(&grid, &p, &mut v0, &mut j, &mut serial);
-        let want = [7.0 / 3.0, 0.0, 0.0, 0.0, 0.0, 0.5];
-        for (cell, (&got, &w)) in j.iter().zip(&want).enumerate() {
-            assert!((got - w).abs() < 1e-15, "cell {cell}: {got} vs {w}");
-        }
-        // Its one-thread time is added to the step's serial seconds (not reset or subtracted).
-        assert!((1.0..61.0).contains(&serial), "{serial}");
-        // Σ V0 per cell alongside.
-        assert_eq!(v0, vec![3.0, 0.0, 0.0, 0.0, 0.0, 4.0]);
-        assert_eq!(grid.cell_index([0.25, 0.15]), 5);
-    }
-
-    /// Particles at the centres of the cells `occupied` of `grid` (two per cell, volumes 1 and 3),
-    /// material 0 with fluidity `g(centre)` in state slot 1 (of 3); a third particle of
-    /// material 1 (no fluidity) in every occupied cell, with a fluidity slot value that must be
-    /// ignored.
-    fn fluidity_cloud(grid: &GridGeometry, occupied: impl Fn(usize, usize) -> bool, g: impl Fn([f64; 2]) -> f64) -> Particles {
-        let mut particles = Particles { state_stride: 3, ..Default::default() };
-        let h = grid.cell_size;
-        for j in 0..grid.cells[1] {
-            for i in 0..grid.cells[0] {
-                if occupied(i, j) {
-                    let x = [grid.origin[0] + (i as f64 + 0.5) * h, grid.origin[1] + (j as f64 + 0.5) * h];
-                    for (volume, material) in [(1.0, 0), (3.0, 0), (5.0, 1)] {
-                        particles.push(x, [0.0; 2], 1.0, volume, [0.25 * h; 2], [0.0; 4], material);
-                        let n = particles.len();
-                        particles.state[(n - 1) * 3 + 1] = if material == 0 { g(x) } else { 1e9 };
-                    }
-                }
-            }
-        }
-        particles
-    }
-
-    /// ∇²g = S − D ḡ per cell from [`fluidity_stencil_of_cells`] (checking that each particle
-    /// of the fluidity material got its cell's S and D in its slots 0 and 2, the other none).
-    fn laplacian_of<F: Formulation>(grid: &GridGeometry, particles: &Particles, boundary: &crate::solver::FluidityBoundary) -> Vec<f64> {
-        let mut particles = particles.clone();
-        let cells = grid.cells[0] * grid.cells[1];
-        let (mut volume, mut fluidity) = (vec![0.0; cells], vec![0.0; cells]);
-        let (mut sum, mut diagonal) = (vec![7.0; cells], vec![7.0; cells]);
-        let cells_out = FluidityCells { volume: &mut volume, fluidity: &mut fluidity, neighbour_sum: &mut sum, diagonal: &mut diagonal };
-        fluidity_stencil_of_cells::<F>(grid, &mut particles, &[Some([1, 0, 2]), None], boundary, cells_out);
-        assert!(volume.iter().all(|&v| v == 0.0 || v == 4.0), "only the fluidity material's volume counts");
-        for p in 0..particles.len() {
-            let c = grid.cell_index(particles.position[p]);
-            let expected = if particles.material[p] == 0 { [sum[c], diagonal[c]] } else { [0.0, 0.0] };
-            assert_eq!([particles.state[p * 3], particles.state[p * 3 + 2]], expected, "particle {p}");
-        }
-        (0..cells).map(|c| if volume[c] > 0.0 { sum[c] - diagonal[c] * fluidity[c] } else { assert_eq!((sum[c], diagonal[c]), (0.0, 0.0)); 0.0 }).collect()
-    }
-
-    #[test]
-    fn fluidity_laplacian_is_exact_for_quadratics_in_both_formulations() {
-        // Plane strain: g = x² + 2y² + xy has ∇²g = 6; axisymmetric: g = r² + 2z² has
-        // (1/r)(r g_r)_r + g_zz = 4 + 4 = 8; both exact for the finite-volume five-point form.
-        let grid = GridGeometry::new([0.0, 0.0], [0.8, 0.6], 0.1);
-        let everywhere = |_: usize, _: usize| true;
-        let boundary = crate::solver::FluidityBoundary::default();
-        let plane = fluidity_cloud(&grid, everywhere, |x| x[0] * x[0] + 2.0 * x[1] * x[1] + x[0] * x[1]);
-        let axi = fluidity_cloud(&grid, everywhere, |x| x[0] * x[0] + 2.0 * x[1] * x[1]);
-        let l_plane = laplacian_of::<PlaneStrain>(&grid, &plane, &boundary);
-        let l_axi = laplacian_of::<Axisymmetric>(&grid, &axi, &boundary);
-        for j in 1..5 {
-            for i in 1..7 {
-                let c = j * 8 + i;
-                assert!((l_plane[c] - 6.0).abs() < 1e-9, "plane ({i}, {j}): {}", l_plane[c]);
-                assert!((l_axi[c] - 8.0).abs() < 1e-9, "axisymmetric ({i}, {j}): {}", l_axi[c]);
-            }
-        }
-        // At the axis (i = 0) the face radius is 0: no flux through it, and the radial term is
-        // still exact for r² ((r + h/2)(g_E − g_C) / (r h²) = (h)(2h²)/(h/2 · h²) = 4).
-        for j in 1..5 {
-            assert!((l_axi[j * 8] - 8.0).abs() < 1e-9, "axis cell row {j}: {}", l_axi[j * 8]);
-        }
-    }
-
-    #[test]
-    fn fluidity_boundaries_free_surface_rough_face_and_rough_wall() {
-        // A uniform field has no Laplacian next to empty cells (free surface) or a smooth grid
-        // face; a rough face or wall holds g = 0 on the face: the mirror value −ḡ, flux −2ḡ/h².
-        let grid = GridGeometry::new([0.0, 0.0], [0.5, 0.4], 0.1); // 5 × 4 cells
-        let h2 = 0.01;
-        let block = |i: usize, j: usize| i < 3 && j < 2;
-        let particles = fluidity_cloud(&grid, block, |_| 2.0);
-        let free = laplacian_of::<PlaneStrain>(&grid, &particles, &crate::solver::FluidityBoundary::default());
-        assert!(free.iter().all(|&l| l == 0.0), "{free:?}");
-        // Rough bottom face: the bottom row of the block loses 2ḡ/h² = 400; empty cells stay 0.
-        let bottom = crate::solver::FluidityBoundary { rough_faces: [false, false, true, false], ..Default::default() };
-        let l = laplacian_of::<PlaneStrain>(&grid, &particles, &bottom);
-        for c in 0..20 {
-            let expected = if c < 3 { -2.0 * 2.0 / h2 } else { 0.0 };
-            assert!((l[c] - expected).abs() < 1e-9, "cell {c}: {} vs {expected}", l[c]);
-        }
-        // Left face rough too (plane strain), and a rough wall behind the block's right side
-        // (cells i ≥ 3 of rows 0–1 marked): the corner cell (0, 0) loses two faces' worth.
-        let mut wall_cells = vec![false; 20];
-        for c in [3, 4, 8, 9] {
-            wall_cells[c] = true;
-        }
-        let sides = crate::solver::FluidityBoundary { rough_faces: [true, false, false, false], rough_wall_cells: wall_cells };
-        let l = laplacian_of::<PlaneStrain>(&grid, &particles, &sides);
-        let face = -2.0 * 2.0 / h2;
-        for (c, expected) in [(0, face), (1, 0.0), (2, face), (5, face), (6, 0.0), (7, face), (10, 0.0), (12, 0.0)] {
-            assert!((l[c] - expected).abs() < 1e-9, "cell {c}: {} vs {expected}", l[c]);
-        }
-        // A neighbour with material carries its own mean: raise cell (1, 0) to 5 → cells (0, 0)
-        // and (2, 0) gain (5 − 2)/h², and (1, 0) loses that to each of its three neighbours.
-        let particles = fluidity_cloud(&grid, block, |x| if x[0] > 0.1 && x[0] < 0.2 && x[1] < 0.1 { 5.0 } else { 2.0 });
-        let l = laplacian_of::<PlaneStrain>(&grid, &particles, &crate::solver::FluidityBoundary::default());
-        assert!((l[0] - 3.0 / h2).abs() < 1e-9 && (l[1] + 3.0 * 3.0 / h2).abs() < 1e-9 && (l[2] - 3.0 / h2).abs() < 1e-9, "{:?}", &l[..3]);
-    }
-
-    #[test]
-    fn axisymmetric_rough_boundaries_weigh_the_face_by_its_radius() {
-        // In axisymmetry a radial face of radius r_f counts r_f / r_c: a rough wall or grid face
-        // to the east of a cell centred at r_c removes 2ḡ (r_c + h/2)/(r_c h²).
-        let grid = GridGeometry::new([0.0, 0.0], [0.5, 0.2], 0.1); // 5 × 2 cells
-        let h2 = 0.01;
-        let east = |i: f64| (i + 1.0) / (i + 0.5); // (r_c + h/2) / r_c at r_c = (i + ½) h
-        // The block fills cells i ≤ 1 behind a rough wall over i ≥ 2.
-        let particles = fluidity_cloud(&grid, |i, _| i < 2, |_| 2.0);
-        let mut wall_cells = vec![false; 10];
-        for c in [2, 3, 4, 7, 8, 9] {
-            wall_cells[c] = true;
-        }
-        let wall = crate::solver::FluidityBoundary { rough_faces: [false; 4], rough_wall_cells: wall_cells };
-        let l = laplacian_of::<Axisymmetric>(&grid, &particles, &wall);
-        for (c, expected) in [(0, 0.0), (1, -2.0 * 2.0 * east(1.0) / h2), (5, 0.0), (6, -2.0 * 2.0 * east(1.0) / h2)] {
-            assert!((l[c] - expected).abs() < 1e-9, "wall, cell {c}: {} vs {expected}", l[c]);
-        }
-        // The whole grid filled, its right face rough: the last column (i = 4) loses 2ḡ r_f/r_c.
-        let particles = fluidity_cloud(&grid, |_, _| true, |_| 2.0);
-        let right = crate::solver::FluidityBoundary { rough_faces: [false, true, false, false], ..Default::default() };
-        let l = laplacian_of::<Axisymmetric>(&grid, &particles, &right);
-        for (c, expected) in [(3, 0.0), (4, -2.0 * 2.0 * east(4.0) / h2), (9, -2.0 * 2.0 * east(4.0) / h2)] {
-            assert!((l[c] - expected).abs() < 1e-9, "face, cell {c}: {} vs {expected}", l[c]);
-        }
     }
 }

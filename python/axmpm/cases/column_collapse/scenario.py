@@ -24,25 +24,18 @@ DEFAULTS: dict[str, Any] = {
     "friction_angle": 25.0,  # degrees
     "dilation_angle": 0.0,  # degrees, as in the seed paper
     "cohesion": 0.0,
-    # Separated sand re-compacts stress-free (mohr_coulomb.rs doc; docs/validation.md,
-    # "Re-compaction"); False = the seed set-up, the opened volume is permanent.
-    "recompaction": False,
-    # Disconnected state (mohr_coulomb.rs, Dunatunga & Kamrin 2015): None = off; φ_c makes
-    # sand looser than φ_c (J > density/(grain_density φ_c)) stress-free.
+    # Disconnected state (experimental; mohr_coulomb.rs, drucker_prager.rs, Dunatunga & Kamrin
+    # 2015): None = off; φ_c makes sand looser than φ_c (J > density/(grain_density φ_c))
+    # stress-free.
     "critical_packing_fraction": None,
-    # With it: the disconnection test on the cell's mean J instead of each particle's own.
-    "cell_averaged_disconnection": False,
-    # μ(I) friction (mu_i.rs): None = rate-independent Mohr–Coulomb at friction_angle; an
-    # angle φ₂ makes friction_angle the static angle of sin φ(I) = μ_s + (μ₂ − μ_s) I/(I₀ + I).
-    "inertial_friction_angle": None,  # degrees
-    "inertial_number_scale": 0.279,  # I₀ (Jop, Forterre & Pouliquen 2006, glass beads)
+    "inertial_number_scale": 0.279,  # I₀ of μ(I) (Jop, Forterre & Pouliquen 2006, glass beads)
     "grain_diameter": GRAIN_DIAMETER,  # m, d in I
     "grain_density": 2500.0,  # kg/m³, glass (docs/physics.md §6)
     # The material model. The default, chosen in issue 15 (docs/validation.md, "The chosen
     # model"): "drucker_prager", the constant-friction cone at the beads' avalanche angle with
     # the Mohr–Coulomb deviatoric section and F-bar (keys below). Also "mohr_coulomb" (the seed
     # paper's model, with the keys above; the default until 2026-12-05) or
-    # "granular_fluidity", the nonlocal granular fluidity of Henann & Kamrin 2013
+    # "granular_fluidity" (experimental), the nonlocal granular fluidity of Henann & Kamrin 2013
     # (granular_fluidity.rs), with its glass-bead μ_s, b and A below and grain_diameter,
     # grain_density above.
     "material_model": "drucker_prager",
@@ -56,7 +49,7 @@ DEFAULTS: dict[str, Any] = {
     # drucker_prager only: the Mohr–Coulomb deviatoric section with sin φ = μ (stronger in
     # triaxial compression, the same in plane-strain shear; drucker_prager.rs).
     "mohr_coulomb_section": True,
-    # drucker_prager only: μ₂ of Jop et al.'s μ(I) with friction_coefficient as μ_s (glass beads:
+    # drucker_prager only, experimental: μ₂ of Jop et al.'s μ(I) with friction_coefficient as μ_s (glass beads:
     # 0.3819 and 0.6435, I₀ = inertial_number_scale; with grain_diameter and grain_density
     # above); None = constant friction.
     "inertial_friction": None,
@@ -123,10 +116,7 @@ def collapse_scenario(
     friction_angle: float = DEFAULTS["friction_angle"],
     dilation_angle: float = DEFAULTS["dilation_angle"],
     cohesion: float = DEFAULTS["cohesion"],
-    recompaction: bool = DEFAULTS["recompaction"],
     critical_packing_fraction: float | None = DEFAULTS["critical_packing_fraction"],
-    cell_averaged_disconnection: bool = DEFAULTS["cell_averaged_disconnection"],
-    inertial_friction_angle: float | None = DEFAULTS["inertial_friction_angle"],
     inertial_number_scale: float = DEFAULTS["inertial_number_scale"],
     grain_diameter: float = DEFAULTS["grain_diameter"],
     grain_density: float = DEFAULTS["grain_density"],
@@ -173,10 +163,7 @@ def collapse_scenario(
         # friction_angle, the base: refuse it rather than run something else than asked.
         for key, given in (("friction_angle", friction_angle != DEFAULTS["friction_angle"]),
                            ("dilation_angle", dilation_angle != DEFAULTS["dilation_angle"]),
-                           ("cohesion", cohesion != DEFAULTS["cohesion"]),
-                           ("recompaction", recompaction != DEFAULTS["recompaction"]),
-                           ("cell_averaged_disconnection", cell_averaged_disconnection),
-                           ("inertial_friction_angle", inertial_friction_angle is not None)):
+                           ("cohesion", cohesion != DEFAULTS["cohesion"])):
             if given:
                 raise ValueError(f"{key}: is a mohr_coulomb parameter, and material_model is {material_model!r} "
                                  "(set material_model=mohr_coulomb for the Mohr–Coulomb set-up; the base's friction is "
@@ -251,6 +238,7 @@ def collapse_scenario(
                 "nonlocal_amplitude": nonlocal_amplitude,
                 "grain_diameter": grain_diameter,
                 "grain_density": grain_density,
+                "experimental": True,
             } if material_model == "granular_fluidity" else {
                 "model": "drucker_prager",
                 "density": density,
@@ -264,6 +252,8 @@ def collapse_scenario(
                 **({"inertial_friction": inertial_friction, "inertial_number_scale": inertial_number_scale,
                     "grain_diameter": grain_diameter, "grain_density": grain_density}
                    if inertial_friction is not None else {}),
+                **({"experimental": True}
+                   if inertial_friction is not None or critical_packing_fraction is not None else {}),
             } if material_model == "drucker_prager" else {
                 "model": "mohr_coulomb",
                 "density": density,
@@ -273,15 +263,9 @@ def collapse_scenario(
                 "dilation_angle": dilation_angle,
                 "cohesion": cohesion,
                 "tension_cutoff": 0.0,
-                "recompaction": recompaction,
                 **({"critical_packing_fraction": critical_packing_fraction,
-                    "grain_density": grain_density}
+                    "grain_density": grain_density, "experimental": True}
                    if critical_packing_fraction is not None else {}),
-                **({"cell_averaged_disconnection": True} if cell_averaged_disconnection else {}),
-                **({"inertial_friction_angle": inertial_friction_angle,
-                    "inertial_number_scale": inertial_number_scale,
-                    "grain_diameter": grain_diameter, "grain_density": grain_density}
-                   if inertial_friction_angle is not None else {}),
             }
         },
         "bodies": [

@@ -19,16 +19,18 @@ The engine's models must each have one (tests/test_scenario.py compares with
 from __future__ import annotations
 
 import importlib
+import json
 import pkgutil
 from collections.abc import Callable
 from typing import Annotated, Any, Union
 
 from pydantic import Field
 
+from ...engine import core
 from ..fields import Positive, Section, bounded
 
 __all__ = ["MaterialModel", "ElasticMaterial", "register_material", "MATERIAL_MODELS", "material_type",
-           "model_names", "critical_packing_errors"]
+           "model_names", "critical_packing_errors", "engine_key_errors"]
 
 #: model name → section class, in registration order (see :func:`model_names` for the order used).
 MATERIAL_MODELS: dict[str, type["MaterialModel"]] = {}
@@ -39,6 +41,11 @@ class MaterialModel(Section):
     checks the scenario asks each model for."""
 
     density: Positive = Field(description="kg/m³")  # type: ignore[valid-type]
+    experimental: bool = Field(
+        False, strict=True,
+        description="true: accept this material's experimental options (measured, not validated; "
+        "docs/studies/granular-variants.md): drucker_prager inertial_friction, the "
+        "critical_packing_fraction of drucker_prager and mohr_coulomb, the granular_fluidity model")
 
     def default_k0(self) -> float:
         """Lateral earth pressure ratio of a geostatic body of this material when it sets no k0."""
@@ -84,9 +91,9 @@ def critical_packing_errors(prefix: str, density: float, grain_density: float | 
 
 def inertial_grain_errors(prefix: str, switch: str, density: float, grain_diameter: float | None,
                           grain_density: float | None) -> list[tuple[str, str]]:
-    """The grain keys μ(I) needs (mohr_coulomb's ``inertial_friction_angle``, drucker_prager's
-    ``inertial_friction``, named by ``switch``): ``grain_diameter`` and ``grain_density`` given,
-    the grain density at least the bulk ``density``."""
+    """The grain keys μ(I) needs (drucker_prager's ``inertial_friction``, named by ``switch``):
+    ``grain_diameter`` and ``grain_density`` given, the grain density at least the bulk
+    ``density``."""
     from ..fields import fmt
 
     errors = [(f"{prefix}{key}", f"is required with {switch}")
@@ -97,6 +104,14 @@ def inertial_grain_errors(prefix: str, switch: str, density: float, grain_diamet
                        f"must be >= density = {fmt(density)} (the bulk density of the grains) "
                        f"(got {fmt(grain_density)})"))
     return errors
+
+
+def engine_key_errors(name: str, table: dict[str, Any]) -> list[tuple[str, str]]:
+    """The engine's refusals of the retired and experimental keys of material ``name`` (its
+    table, ``model`` included), as (``materials.NAME.KEY``, message): the engine holds the rule
+    and the wording (``axmpm._core.material_key_errors``), the front end only reports them."""
+    found = core().material_key_errors(name, json.dumps(table, default=str))
+    return [(f"materials.{name}.{key}", message) for key, message in found]
 
 
 def register_material(name: str) -> Callable[[type[MaterialModel]], type[MaterialModel]]:

@@ -5,11 +5,12 @@ Yield cone τ = μ p with τ = √(½ s:s) (a layer on an incline flows at tan �
 plastic flow, stress-free in tension. Rousseau et al. (2023, JFM) reproduce granular collapses
 with this constant-friction rheology when μ is the tangent of the material's avalanche angle
 (tan 27.4° = 0.518 for Lajeunesse et al.'s glass beads). State variables written to every frame:
-``plastic_shear_strain`` and ``plastic_work`` (J/m³ of reference volume). Optional: Dunatunga &
-Kamrin's disconnected state below ``critical_packing_fraction`` (as ``mohr_coulomb``), and the
-Mohr–Coulomb deviatoric section (``mohr_coulomb_section``: stronger in triaxial compression), and
-Jop et al.'s μ(I) friction (``inertial_friction`` = μ₂, with ``friction`` as μ_s; then the state
-holds ``inertial_number`` as well)."""
+``plastic_shear_strain`` and ``plastic_work`` (J/m³ of reference volume). Optional: the
+Mohr–Coulomb deviatoric section (``mohr_coulomb_section``: stronger in triaxial compression); and,
+experimental (with ``experimental = true``), Dunatunga & Kamrin's disconnected state below
+``critical_packing_fraction`` (as ``mohr_coulomb``) and Jop et al.'s μ(I) friction
+(``inertial_friction`` = μ₂, with ``friction`` as μ_s; then the state holds ``inertial_number``
+as well)."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
-"""``model = "granular_fluidity"``: the nonlocal granular fluidity (NGF) model of dense granular
-flow (Kamrin & Koval 2012; Henann & Kamrin 2013; docs/physics.md §6b; engine:
+"""``model = "granular_fluidity"`` (experimental: needs ``experimental = true``): the nonlocal
+granular fluidity (NGF) model of dense granular flow (Kamrin & Koval 2012; Henann & Kamrin 2013; docs/physics.md §6b; engine:
 crates/axmpm-core/src/material/granular_fluidity.rs).
 
 An elasto-viscoplastic solid: plastic shear rate g μ with the fluidity g from

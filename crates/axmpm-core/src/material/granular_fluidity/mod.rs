@@ -29,11 +29,10 @@
 //! 1. Elastic predictor: the linear-elastic Jaumann step of [`LinearElastic`], operation for
 //!    operation.
 //! 2. Fluidity: one Jacobi sweep of the steady equation per step (a pseudo-time relaxation),
-//!    from μ and p of the start-of-step stress and the Laplacian of the cell-averaged fluidity,
-//!    which the solver writes into the particle's state split as ∇²g = S − D g
-//!    ([`Material::fluidity_slots`]: S the neighbour cells' weighted sum, D the cell's own
-//!    weight, both over h²), the diagonal taken at the particle's new g and the local term
-//!    implicit:
+//!    from μ and p of the start-of-step stress and the Laplacian of the cell-averaged fluidity
+//!    at the particle's cell, ∇²g = S − D g ([`laplacian`], read in [`Kinematics::cell_field`]:
+//!    S the neighbour cells' weighted sum, D the cell's own weight, both over h²), the diagonal
+//!    taken at the particle's new g and the local term implicit:
 //!    g ← (|Δμ| (g + g_loc) + A²d² S) / (2 |Δμ| + A²d² D),  Δμ = μ − μ_s,
 //!    i.e. (g + g_loc + ξ² S)/(2 + ξ² D), written so that ξ → ∞ at μ = μ_s needs no division.
 //!    Its fixed point is the steady equation |Δμ| (g − g_loc) = A²d² ∇²g; every term is ≥ 0,
@@ -46,28 +45,26 @@
 //!
 //! # State variables
 //!
-//! - `fluidity`: g, 1/s (the solver averages it per cell for the Laplacian).
-//! - `fluidity_neighbour_sum`, `fluidity_diagonal`: S (1/(s m²)) and D (1/m²) of the
-//!   particle's cell at the start of the step, ∇²g = S − D ḡ (written by the solver).
+//! - `fluidity`: g, 1/s (averaged per cell for the Laplacian).
 //! - `plastic_shear_strain`: Σ Δγᵖ, Δγᵖ = Δt g τ / p of each return.
 //! - `plastic_work`: per unit reference volume, J/m³, in every step that flows or separates:
 //!   Σ J (σ_n : Δε − ΔW_e), the stress power of the start-of-step stress less the change of the
 //!   stored (complementary) elastic energy W_e, so that the model leaves no residual of its own
 //!   in the energy budget (the frictional dissipation; separation releases the stored energy).
 
-use super::{pressure_and_shear, rate_of_deformation, stress_power, Kinematics, LinearElastic, Material, Parameters};
+pub mod laplacian;
+
+use super::{
+    pressure_and_shear, rate_of_deformation, stress_power, CellField, Kinematics, LinearElastic, Material, Parameters,
+};
 use crate::particles::Stress;
 
-const STATE_NAMES: [&str; 5] =
-    ["fluidity", "fluidity_neighbour_sum", "fluidity_diagonal", "plastic_shear_strain", "plastic_work"];
+const STATE_NAMES: [&str; 3] = ["fluidity", "plastic_shear_strain", "plastic_work"];
 
-/// Index of `fluidity` in the state (the solver averages it per cell).
+/// Index of `fluidity` in the state (averaged per cell for the Laplacian).
 pub const FLUIDITY_SLOT: usize = 0;
-/// Indices of the Laplacian's S and D (the solver writes them before each update).
-pub const NEIGHBOUR_SUM_SLOT: usize = 1;
-pub const DIAGONAL_SLOT: usize = 2;
-const SHEAR_STRAIN_SLOT: usize = 3;
-const WORK_SLOT: usize = 4;
+const SHEAR_STRAIN_SLOT: usize = 1;
+const WORK_SLOT: usize = 2;
 
 /// The NGF model (module doc).
 #[derive(Clone, Debug)]
@@ -172,8 +169,8 @@ impl Material for GranularFluidity {
     fn state_names(&self) -> &'static [&'static str] {
         &STATE_NAMES
     }
-    fn fluidity_slots(&self) -> Option<[usize; 3]> {
-        Some([FLUIDITY_SLOT, NEIGHBOUR_SUM_SLOT, DIAGONAL_SLOT])
+    fn cell_field(&self) -> Option<CellField> {
+        Some(CellField::Laplacian { slot: FLUIDITY_SLOT })
     }
     fn elastic_energy_density(&self, stress: &Stress) -> f64 {
         self.elastic.elastic_energy_density(stress)
@@ -181,7 +178,8 @@ impl Material for GranularFluidity {
 
     #[inline(always)]
     fn update_stress(&self, stress: &mut Stress, state: &mut [f64], k: &Kinematics) {
-        let g = self.relax_fluidity(state[FLUIDITY_SLOT], state[NEIGHBOUR_SUM_SLOT], state[DIAGONAL_SLOT], stress);
+        let [neighbour_sum, diagonal] = k.cell_field;
+        let g = self.relax_fluidity(state[FLUIDITY_SLOT], neighbour_sum, diagonal, stress);
         state[FLUIDITY_SLOT] = g;
         let start = *stress;
         // Elastic predictor: the linear-elastic Jaumann step itself.
@@ -329,7 +327,7 @@ mod tests {
         assert!((tau / p - expected).abs() < 2e-3 * expected, "μ = {} vs {expected}", tau / p);
         // The dissipation rate is τ γ̇ (per reference volume, J = 1): W = τ γ̇ t at steady state,
         // within the elastic transient.
-        let work = point.state[4];
+        let work = point.state[2];
         assert!(work > 0.0 && (work - tau * rate * 0.4).abs() < 0.02 * tau * rate * 0.4, "{work}");
     }
 
@@ -338,14 +336,14 @@ mod tests {
         let m = beads(0.48);
         let elastic = LinearElastic::new(1550.0, 1e6, 0.3);
         let (mut s_fluid, mut s_elastic) = (sheared(500.0, 0.1), sheared(500.0, 0.1));
-        let mut state = [0.0; 5];
+        let mut state = [0.0; 3];
         let k = kinematics([1e-3, 2e-3, 0.0, -1e-3, 0.0], 1e-3);
         for _ in 0..10 {
             m.update_stress(&mut s_fluid, &mut state, &k);
             elastic.update_stress(&mut s_elastic, &mut [], &k);
         }
         assert_eq!(s_fluid, s_elastic);
-        assert_eq!(state, [0.0; 5]);
+        assert_eq!(state, [0.0; 3]);
     }
 
     /// The start-of-step stress power σ_n : Δε of a step (tensor shear component).
@@ -358,14 +356,14 @@ mod tests {
         let m = beads(0.48);
         let start = sheared(10.0, 0.3);
         let mut stress = start;
-        let mut state = [5.0, 0.0, 0.0, 0.0, 0.0];
+        let mut state = [5.0, 0.0, 0.0];
         let k = Kinematics { jacobian: 1.25, ..kinematics([1.0, 0.0, 0.0, 1.0, 1.0], 1e-3) };
         m.update_stress(&mut stress, &mut state, &k);
         assert_eq!(stress, [0.0; 4]);
         let w0 = crate::material::complementary_energy(&start, 1e6, 0.3);
         let released = 1.25 * (power(&start, &k) + w0);
-        assert!(w0 > 0.0 && (state[4] - released).abs() < 1e-15 * w0, "{} vs {released}", state[4]);
-        assert_eq!(state[3], 0.0);
+        assert!(w0 > 0.0 && (state[2] - released).abs() < 1e-15 * w0, "{} vs {released}", state[2]);
+        assert_eq!(state[1], 0.0);
     }
 
     #[test]
@@ -376,14 +374,14 @@ mod tests {
         let elastic = LinearElastic::new(1550.0, 1e6, 0.3);
         let start = [-480.0, -530.0, -490.0, 260.0];
         let (mut stress, mut trial) = (start, start);
-        let mut state = [800.0, 0.0, 0.0, 0.1, 2.0];
+        let mut state = [800.0, 0.1, 2.0];
         let k = Kinematics { jacobian: 0.97, ..kinematics([2.0, 30.0, -5.0, -1.0, 0.5], 2e-5) };
         m.update_stress(&mut stress, &mut state, &k);
         elastic.update_stress(&mut trial, &mut [], &k);
         let g = state[0];
         assert!(g > 0.0 && g != 800.0);
         let w = |s: &Stress| crate::material::complementary_energy(s, 1e6, 0.3);
-        let dissipated = state[4] - 2.0;
+        let dissipated = state[2] - 2.0;
         let expected = 0.97 * (power(&start, &k) - (w(&stress) - w(&start)));
         assert!(dissipated > 0.0 && (dissipated - expected).abs() < 1e-12 * dissipated, "{dissipated} vs {expected}");
         let (p_trial, tau_trial) = pressure_and_shear(&trial);
@@ -392,7 +390,7 @@ mod tests {
         let g_modulus = 1e6 / 2.6;
         let scale = 1.0 / (1.0 + g_modulus * 2e-5 * g / p);
         assert!(scale < 0.9 && (tau - scale * tau_trial).abs() < 1e-12 * tau);
-        assert!((state[3] - 0.1 - 2e-5 * g * tau / p).abs() < 1e-15);
+        assert!((state[1] - 0.1 - 2e-5 * g * tau / p).abs() < 1e-15);
         for c in 0..3 {
             assert!(((stress[c] + p) - scale * (trial[c] + p)).abs() < 1e-9, "component {c}");
         }
@@ -409,12 +407,12 @@ mod tests {
         let k = kinematics([0.0; 5], 1e-3);
         for g in [0.0, 40.0] {
             let mut stress = [0.0, 0.0, 0.0, 25.0];
-            let mut state = [2.0 * g, 0.0, 0.0, 0.0, 0.0];
+            let mut state = [2.0 * g, 0.0, 0.0];
             m.update_stress(&mut stress, &mut state, &k);
             assert_eq!(state[0], g);
             assert_eq!(stress, [0.0; 4], "g = {g}");
-            assert_eq!(state[3], 0.0, "g = {g}");
-            assert!(state[4] > 0.0, "the released elastic energy is dissipated (g = {g})");
+            assert_eq!(state[1], 0.0, "g = {g}");
+            assert!(state[2] > 0.0, "the released elastic energy is dissipated (g = {g})");
         }
     }
 
@@ -435,7 +433,7 @@ mod tests {
         let m = build(&p).unwrap();
         assert_eq!(m.model(), "granular_fluidity");
         assert_eq!(m.state_names(), &STATE_NAMES);
-        assert_eq!(m.fluidity_slots(), Some([0, 1, 2]));
+        assert_eq!(m.cell_field(), Some(CellField::Laplacian { slot: FLUIDITY_SLOT }));
         for (key, value, message) in [
             ("nonlocal_amplitude", -1.0, "must be >= 0 (got -1)"),
             ("static_friction", 0.0, "must be > 0 (got 0)"),
