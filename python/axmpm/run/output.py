@@ -121,6 +121,11 @@ class FrameData:
         state_names: the S column names of ``state``: the union over the run's materials of
             their variables, e.g. ``plastic_shear_strain``, ``plastic_work`` (J per m³ of initial
             volume).
+        pore_pressure: (N,) pore water pressure (Pa, compression positive) of a saturated run,
+            whose ``stress`` is then the effective stress; empty in a dry run.
+        porosity: (N,) porosity n of a saturated run (empty in a dry run).
+        water_velocity: (N, 2) the pore water's velocity (m/s) of a saturated run (empty in a
+            dry run).
     """
 
     time: float
@@ -526,8 +531,9 @@ class Frame:
 
     It has the attributes of :class:`FrameData`: ``time``, ``steps``, ``x``, ``v``,
     ``stress``, ``X0``, ``displacement``, ``volume``, ``volume0``, ``mass``, ``material_id``,
-    ``F``, ``state``, ``state_names`` and :meth:`~FrameData.state_of` (``help(FrameData)``
-    gives their shapes and units), and ``path``, the .npz file.
+    ``F``, ``state``, ``state_names``, in a saturated run ``pore_pressure``, ``porosity`` and
+    ``water_velocity``, and :meth:`~FrameData.state_of` (``help(FrameData)`` gives their shapes
+    and units), and ``path``, the .npz file.
     """
 
     def __init__(self, path: Path):

@@ -30,7 +30,7 @@ from pathlib import Path
 from typing import Any
 
 from .. import RunSpec, register
-from ...study.report import DASH, fmt
+from ...report import DASH, fmt
 from . import exact
 
 HEIGHT = 1.0
