@@ -682,9 +682,10 @@ mod tests {
             let r_new = relative + dw - dv;
             assert!((m_eq * dw - (water_impulse - drag * r_new)).abs() < 1e-9 * (drag * r_new.abs()).max(1.0), "k = {k}");
             if k < 1e-6 {
-                // Locked: the relative velocity is gone, the mixture moves as one mass.
-                assert!(r_new.abs() < 1e-6 * relative, "k = {k}: {r_new}");
-                assert!((dv - (impulse + m_w * relative) / (m_s + m_w)).abs() < 1e-6 * dv.abs());
+                // Locked: the relative velocity is gone (to O(M/(Δt Q)) = O(1e-5) of it here),
+                // the mixture moves as one mass.
+                assert!(r_new.abs() < 1e-4 * relative, "k = {k}: {r_new}");
+                assert!((dv - (impulse + m_w * relative) / (m_s + m_w)).abs() < 1e-4 * dv.abs(), "k = {k}: {dv}");
             }
         }
         // Without drag the phases are independent.
@@ -707,7 +708,7 @@ mod tests {
         // The solid volume (1 − n)V is conserved.
         let n1 = updated_porosity(n, 1.0, 0.9);
         assert!(((1.0 - n1) * 0.9 - (1.0 - n) * 1.0).abs() < 1e-15);
-        assert!(updated_porosity(n, 2.0, 2.0) == n);
+        assert!((updated_porosity(n, 2.0, 2.0) - n).abs() < 1e-15);
     }
 
     #[test]
