@@ -95,8 +95,9 @@ fn update_node(params: &super::StepParameters, dt: f64, v: &mut [f64; 2], v_new:
     }
 }
 
+/// The sign of `x` (0 at ±0), shared with the saturated pass.
 #[inline(always)]
-fn sign(x: f64) -> f64 {
+pub(super) fn sign(x: f64) -> f64 {
     if x > 0.0 {
         1.0
     } else if x < 0.0 {

@@ -34,6 +34,7 @@
 
 use rayon::prelude::*;
 
+use super::grid_update::sign;
 use super::tiles::{inside, zero_box, Shared, TileReach, COLOURS};
 use super::{Failure, State};
 use crate::config::{BoundariesConfig, Condition, Config, Drainage, DrainageConfig, FormulationKind, Side, WallConfig};
@@ -545,16 +546,6 @@ fn update_grid(state: &mut State, dt: f64) {
     }
 }
 
-#[inline(always)]
-fn sign(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
 
 /// Particles per parallel work item of the water passes.
 const WATER_CHUNK: usize = 512;
