@@ -27,6 +27,7 @@ from .materials import engine_key_errors, material_type
 from .messages import convert_errors
 from .regions import body_type
 from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
+from .probes import Probe, probe_errors
 from .saturated import Drainage, saturated_errors
 from .sections import Grid, Simulation
 
@@ -49,6 +50,7 @@ class Scenario(Section):
     walls: list[Wall] = Field(default_factory=list)
     rigid_bodies: list[RigidBody] = Field(default_factory=list)
     drainage: Drainage = Field(default_factory=Drainage)
+    probes: list[Probe] = Field(default_factory=list)
 
     @model_validator(mode="after")
     def _cross_check(self) -> "Scenario":
@@ -138,7 +140,7 @@ def schema_json(indent: int = 2) -> str:
 def _cross_check(s: Scenario) -> list[tuple[str, str]]:
     return cross_check_parts(
         s.simulation, s.grid, dict(s.materials), list(s.materials), list(s.bodies), s.boundaries, list(s.walls),
-        list(s.rigid_bodies),
+        list(s.rigid_bodies), list(s.probes),
     )
 
 
@@ -174,6 +176,7 @@ def cross_check_parts(
     boundaries: Boundaries | None,
     walls: list[Wall | None] | None,
     rigid_bodies: list[RigidBody | None] | None = None,
+    probes: list[Probe | None] | None = None,
 ) -> list[tuple[str, str]]:
     """Cross checks between sections. ``None`` stands for a part that failed its own field
     checks (or a whole section that did): the checks needing it are skipped, so that this can
@@ -254,6 +257,7 @@ def cross_check_parts(
         taken = set(FACE_NAMES) | {f"wall_{i}" for i in range(len(walls or []))}
         axisymmetric = None if sim is None else sim.formulation == "axisymmetric"
         errors.extend(rigid_body_errors(rigid_bodies, frame, axisymmetric, taken))
+    errors.extend(probe_errors(probes, grid if grid_ok else None))
     return errors
 
 
@@ -293,7 +297,9 @@ def _partial_cross_check(data: dict[str, Any]) -> list[tuple[str, str]]:
     walls = [_validate_part(Wall, w) for w in raw_walls] if isinstance(raw_walls, list) else None
     raw_rigid = data.get("rigid_bodies", [])
     rigid = [_validate_part(RigidBody, b) for b in raw_rigid] if isinstance(raw_rigid, list) else None
-    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid)
+    raw_probes = data.get("probes", [])
+    probes = [_validate_part(Probe, p) for p in raw_probes] if isinstance(raw_probes, list) else None
+    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid, probes)
 
 
 def _merge_errors(field: list[tuple[str, str]], cross: list[tuple[str, str]]) -> list[tuple[str, str]]:
