@@ -1,6 +1,7 @@
 """Point probes (``[[probes]]``): the moving least-squares estimate itself, the history columns
 of a run against fields known in closed form (the geostatic stress of a column under gravity,
-Terzaghi's pore pressure at a depth), and bad input refused naming the key."""
+Terzaghi's pore pressure at a depth), the water's history columns, and bad input refused
+naming the key."""
 
 from __future__ import annotations
 
@@ -94,6 +95,9 @@ def test_probe_follows_terzaghi_in_the_consolidating_column(tmp_path: Path) -> N
     # pressure is closer).
     assert np.max(np.abs(history["deep.pore_pressure"][later] / u0 - expected)) < 0.01
     assert np.all(np.isfinite(history["deep.stress_yy"]))
+    # The water's columns: the outflow grows as the column drains, the drag dissipates.
+    assert history["water_outflow"][0] == 0.0 and np.all(np.diff(history["water_outflow"]) > 0.0)
+    assert np.all(np.diff(history["drag_dissipation"]) > 0.0) and np.all(history["water_kinetic_energy"] >= 0.0)
 
 
 @pytest.mark.parametrize("probes, key, message", [

@@ -13,7 +13,12 @@ Layout of a run folder::
                              whole body, plane strain: per metre); per rigid body also
                              NAME.displacement_x/y (m) and the force split into
                              NAME.base_force_x/y (contact normals facing down) and
-                             NAME.shaft_force_x/y (the rest)
+                             NAME.shaft_force_x/y (the rest); saturated runs also
+                             water_outflow (m³ per metre or radian: the water that left
+                             through drained faces and free surfaces since the start) and
+                             the energies water_kinetic_energy and drag_dissipation; per
+                             probe NAME.pore_pressure, NAME.stress_*, NAME.displacement_x/y
+                             (axmpm.run.probes)
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these

@@ -295,13 +295,15 @@ class _Driver:
         energies = {k: float(v) for k, v in sim.energies().items()}
         reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
         rigid = rigid_body_columns(sim)
+        outflow = sim.water_outflow()
+        water = {} if outflow is None else {"water_outflow": float(outflow)}
         probes: dict[str, float] = {}
         if self.scenario.probes:
             probes = probe_columns(self.scenario.probes, frame or FrameData.from_simulation(sim),
                                    self.sim_cfg.formulation, self.scenario.grid.cell_size)
         self.history.append(
             {"time": time, "steps": steps, "dt": float(sim.dt),
-             **dict(sorted(energies.items())), "wall_seconds": self.wall(),
+             **dict(sorted(energies.items())), **water, "wall_seconds": self.wall(),
              **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")},
              **rigid, **probes}
         )

@@ -121,6 +121,11 @@ pub struct WaterState {
     /// Per background cell: Σ V and Σ V e of the saturated particles (pressure averaging).
     pub cell_volume: Vec<f64>,
     pub cell_storage: Vec<f64>,
+    /// Since the start of the run, per metre (plane strain) or per radian (axisymmetric): the
+    /// water volume that left the saturated bodies ([`outflow_increment`]), m³, and the work
+    /// of the drag on the relative flow ([`drag_work`]), J.
+    pub outflow: f64,
+    pub drag_work: f64,
 }
 
 impl WaterState {
@@ -150,6 +155,8 @@ impl WaterState {
             volume_before: vec![0.0; n],
             cell_volume: vec![0.0; cells],
             cell_storage: vec![0.0; cells],
+            outflow: 0.0,
+            drag_work: 0.0,
         }))
     }
 }
@@ -228,6 +235,17 @@ pub fn storage_strain(n: f64, solid_strain: f64, water_dilatation: f64) -> f64 {
 #[inline(always)]
 pub fn pressure_increment(k_w: f64, n: f64, storage_strain: f64) -> f64 {
     -k_w / n * storage_strain
+}
+
+/// The water volume that left a saturated particle over one step: its pore volume nV shrank
+/// by ΔV (the grains are incompressible, so Δ(nV) = ΔV) and its water expanded by
+/// −nV Δp/K_w = V e ([`pressure_increment`]), so −ΔV + V e of water went out. Summed over the
+/// particles, only the flow across the bodies' surface remains (Gauss): the outflow through
+/// the drained faces and free surfaces. `volume` is the particle's volume at the end of the
+/// step, `storage_strain` its cell's e.
+#[inline(always)]
+pub fn outflow_increment(volume_before: f64, volume: f64, storage_strain: f64) -> f64 {
+    volume * storage_strain - (volume - volume_before)
 }
 
 /// Porosity after the skeleton's volume went from `v_old` to `v_new` with incompressible
@@ -544,6 +562,36 @@ fn update_grid(state: &mut State, dt: f64) {
         water.velocity_new[node][d] = fields.velocity_new[node][d];
         water.velocity[node][d] = fields.velocity[node][d];
     }
+    water.drag_work += drag_work(water, &fields.velocity_new, dt, first_row..first_row + rows, columns, nx);
+}
+
+/// The work of the implicit drag over one step over the nodes of `rows` × `columns` (one
+/// thread, row by row: deterministic). The water row is the water's momentum balance per unit
+/// volume of water (its mass M̄_w = Σ S ρ_w V), so its drag Q (w − v) is the force on the water
+/// of a unit volume of mixture divided by n; the force itself is n Q (w − v), with the nodal
+/// porosity n = M_w / M̄_w, and its work Σ Δt n Q |w⁺ − v⁺|² (per unit volume of mixture,
+/// (γ_w/k) |q|² with the Darcy flux q = n (w − v)).
+fn drag_work(
+    water: &WaterState,
+    v_new: &[[f64; 2]],
+    dt: f64,
+    rows: std::ops::Range<usize>,
+    columns: std::ops::RangeInclusive<usize>,
+    nx: usize,
+) -> f64 {
+    let mut work = 0.0;
+    for j in rows {
+        for k in columns.clone().map(|i| j * nx + i) {
+            if water.equation_mass[k] <= water.mass_threshold {
+                continue;
+            }
+            let porosity = water.mass[k] / water.equation_mass[k];
+            let (w, v) = (water.velocity_new[k], v_new[k]);
+            let r = [w[0] - v[0], w[1] - v[1]];
+            work += dt * porosity * water.drag[k] * (r[0] * r[0] + r[1] * r[1]);
+        }
+    }
+    work
 }
 
 
@@ -634,6 +682,7 @@ fn update_pore_pressure(state: &mut State) -> Result<(), Failure> {
         water.cell_volume[cell] += particles.volume[p];
         water.cell_storage[cell] += particles.volume[p] * e;
     }
+    let mut outflow = 0.0;
     for p in 0..particles.len() {
         let n = particles.porosity[p];
         if n <= 0.0 {
@@ -643,7 +692,9 @@ fn update_pore_pressure(state: &mut State) -> Result<(), Failure> {
         let e = water.cell_storage[cell] / water.cell_volume[cell];
         particles.pore_pressure[p] += pressure_increment(k_w, n, e);
         particles.porosity[p] = updated_porosity(n, water.volume_before[p], particles.volume[p]);
+        outflow += outflow_increment(water.volume_before[p], particles.volume[p], e);
     }
+    water.outflow += outflow;
     state.timings.serial += serial_start.elapsed().as_secs_f64();
     match particles.pore_pressure.iter().position(|p| !p.is_finite()) {
         Some(p) => Err(Failure::NotFinite { particle: p }),
