@@ -34,11 +34,10 @@
 
 use rayon::prelude::*;
 
-use super::grid_update::sign;
-use super::tiles::{inside, zero_box, Shared, TileReach, COLOURS};
+use super::grid_update::{constrain_velocities, damped};
+use super::tiles::{inside, scatter_by_colour, zero_box, Shared, TileReach};
 use super::{Failure, State};
 use crate::config::{BoundariesConfig, Condition, Config, Drainage, DrainageConfig, FormulationKind, Side, WallConfig};
-use crate::constraint::NodalContext;
 use crate::formulation::Formulation;
 use crate::grid::{GridGeometry, NodeBox};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
@@ -258,31 +257,23 @@ pub fn updated_porosity(n: f64, v_old: f64, v_new: f64) -> f64 {
 /// Advances a saturated run by `dt` (the dry step's passes, with the water added; see the
 /// module doc and `solver::step`).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
-    let t0 = std::time::Instant::now();
-    state.sort_if_due();
-    let mut cache = super::take_stencil_cache::<S>(state);
-    particle_to_grid::<F, S>(state, gravity, &mut cache);
-    let t1 = std::time::Instant::now();
-    update_grid(state, dt);
-    let t2 = std::time::Instant::now();
-    super::grid_to_particle::grid_to_particle::<F, S>(state, dt, &cache);
-    water_to_particles::<F, S>(state, dt, &cache);
-    let t3 = std::time::Instant::now();
-    {
-        let water = state.water.as_mut().expect("a saturated run has its water");
-        water.volume_before.copy_from_slice(&state.particles.volume);
-    }
-    let result = super::particle_update::update_particles::<F, S>(state, dt, &cache);
-    let pressure = update_pore_pressure(state);
-    let t4 = std::time::Instant::now();
-    state.scratch.stencil_cache = Some(Box::new(cache));
-    state.timings.particle_to_grid += (t1 - t0).as_secs_f64();
-    state.timings.grid_update += (t2 - t1).as_secs_f64();
-    state.timings.grid_to_particle += (t3 - t2).as_secs_f64();
-    state.timings.constitutive_update += (t4 - t3).as_secs_f64();
-    state.time += dt;
-    state.steps += 1;
-    super::first_failure(result.err(), pressure.err()).map_or(Ok(()), Err)
+    super::run_passes::<S>(
+        state,
+        dt,
+        |state, cache| particle_to_grid::<F, S>(state, gravity, cache),
+        |state| update_grid(state, dt),
+        |state, cache| {
+            super::grid_to_particle::grid_to_particle::<F, S>(state, dt, cache);
+            water_to_particles::<F, S>(state, dt, cache);
+        },
+        |state, cache| {
+            let water = state.water.as_mut().expect("a saturated run has its water");
+            water.volume_before.copy_from_slice(&state.particles.volume);
+            let result = super::particle_update::update_particles::<F, S>(state, dt, cache);
+            let pressure = update_pore_pressure(state);
+            super::first_failure(result.err(), pressure.err()).map_or(Ok(()), Err)
+        },
+    )
 }
 
 /// The nodal fields the saturated particle → grid adds to (shared by the tiles of one colour).
@@ -327,26 +318,11 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let particles = &state.particles;
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
-    let mut serial = std::time::Duration::ZERO;
-    for c in 0..COLOURS {
-        let range = order.colour(c);
-        order.tiles[range.clone()].par_iter().zip(order.reach[range.clone()].par_iter_mut()).for_each(|(tile, reach)| {
-            // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only
-            // to nodes inside its zone, and zones of one colour are disjoint.
-            let cache = unsafe { caches.slice(tile.range()) };
-            *reach = unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, false) };
-        });
-        let serial_start = std::time::Instant::now();
-        for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
-            if reach.overflow {
-                // SAFETY: nothing else runs now.
-                let cache = unsafe { caches.slice(tile.range()) };
-                unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, true) };
-            }
-        }
-        serial += serial_start.elapsed();
-    }
-    let mut reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
+    let (mut reached, mut serial) = scatter_by_colour(order, |tile, overflow| {
+        // SAFETY: as in the dry `particle_to_grid` (disjoint tiles and zones of one colour).
+        let cache = unsafe { caches.slice(tile.range()) };
+        unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, overflow) }
+    });
     if water.loaded {
         let serial_start = std::time::Instant::now();
         reached = reached.union(add_surface_loads(&grid, particles, &mut state.fields.force));
@@ -506,7 +482,7 @@ fn update_grid(state: &mut State, dt: f64) {
                     let mut vn = [0.0; 2];
                     for d in 0..2 {
                         // Cundall local damping of the mixture's unbalanced force.
-                        let force = f[k][d] - params.damping * f[k][d].abs() * sign(v0[d]);
+                        let force = damped(f[k][d], params.damping, v0[d]);
                         vn[d] = if has_water {
                             v0[d] + solve_node(m, m_w[k], m_eq, dt * q[k], dt * force, dt * f_w[k][d], w0[d] - v0[d])
                         } else {
@@ -528,11 +504,9 @@ fn update_grid(state: &mut State, dt: f64) {
                 }
             }
         });
-    let serial_start = std::time::Instant::now();
-    let context = NodalContext { grid: &state.grid, mass: &fields.mass, time: state.time, dt, axisymmetric: params.axisymmetric };
-    state.constraints.apply_start_of_step(&context, &mut fields.velocity);
-    state.constraints.apply(&context, &mut fields.velocity_new, true);
-    state.timings.serial += serial_start.elapsed().as_secs_f64();
+    constrain_velocities(state, dt);
+    let fields = &state.fields;
+    let water = state.water.as_mut().expect("a saturated run has its water");
     // w⁺ from the water row with the constrained v⁺ (where no constraint acted, the value of
     // the coupled solve).
     let light = params.mass_threshold;
