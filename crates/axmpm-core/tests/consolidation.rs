@@ -47,6 +47,21 @@ fn terzaghi_pressure(depth: f64, tv: f64) -> f64 {
     sum
 }
 
+/// The water of every test here: n = POROSITY, conductivity `k`, bulk modulus `k_w`, LOAD on
+/// the top surface (through the loading plate when `loading_plate`).
+fn saturated(k: f64, k_w: f64, loading_plate: bool) -> SaturatedConfig {
+    SaturatedConfig {
+        porosity: POROSITY,
+        hydraulic_conductivity: k,
+        water_bulk_modulus: k_w,
+        water_density: RHO_W,
+        water_table: None,
+        pore_pressure: None,
+        surface_load: LOAD,
+        loading_plate,
+    }
+}
+
 /// A column of `cells` cells over HEIGHT, one cell wide, base fixed and impermeable, sides
 /// rollers (impermeable), top free and drained under LOAD. Axisymmetric: the column spans
 /// r = 1 … 1 + h between roller walls.
@@ -63,15 +78,7 @@ fn column_with_water(formulation: FormulationKind, cells: usize, k: f64, k_w: f6
     cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [x0 + 3.0 * h, HEIGHT + 2.0 * h], cell_size: h };
     cfg.simulation.flip_fraction = 0.99;
     let mut body = BodyConfig::rectangle("m", [x0, 0.0], [x0 + h, HEIGHT]);
-    body.saturated = Some(SaturatedConfig {
-        porosity: POROSITY,
-        hydraulic_conductivity: k,
-        water_bulk_modulus: k_w,
-        water_density: RHO_W,
-        water_table: None,
-        pore_pressure: None,
-        surface_load: LOAD,
-    });
+    body.saturated = Some(saturated(k, k_w, false));
     cfg.bodies = vec![body];
     cfg.boundaries = BoundariesConfig {
         left: BoundaryCondition::ROLLER,
@@ -275,4 +282,59 @@ fn the_water_outflow_is_the_settlement_and_the_drag_dissipates_darcys_energy() {
     let mut dry = column(FormulationKind::PlaneStrain, 10, k);
     dry.bodies[0].saturated = None;
     assert_eq!(Simulation::new(dry, 1).unwrap().water_outflow(), None);
+}
+
+#[test]
+fn the_loading_plate_carries_the_whole_load_with_a_uniform_settlement() {
+    // Mandel's quarter specimen (a = 1 m, b = 0.5 m, 10 × 5 cells, no gravity): rollers on x = 0
+    // and y = 0, the side x = a free and drained, LOAD through the plate at y = b, Cundall damping
+    // 0.2 to settle the undrained ringing. Once the water drains through the side the vertical
+    // stress varies along x, yet every horizontal section carries the plate's whole load: the
+    // mean total vertical stress σ′_yy − p of the particles is −LOAD (0.5 %), and the nodes under
+    // the plate moved down together (the surface's settlement the same along x to 1e-3 of it).
+    let (a, b, cells) = (1.0, 0.5, 10);
+    let h = a / cells as f64;
+    let k = 1e-4;
+    let mut cfg = common::block(FormulationKind::PlaneStrain, ShapeFunctionKind::Linear, [0.0, 0.0], [0.0, 0.0]);
+    cfg.materials.insert("m".into(), common::material("linear_elastic", 2650.0, E_OED, 0.0));
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [a + 2.0 * h, b + 2.0 * h], cell_size: h };
+    cfg.simulation.flip_fraction = 0.99;
+    cfg.simulation.damping = 0.2;
+    let mut body = BodyConfig::rectangle("m", [0.0, 0.0], [a, b]);
+    body.saturated = Some(saturated(k, K_W, true));
+    cfg.bodies = vec![body];
+    cfg.boundaries = BoundariesConfig {
+        left: BoundaryCondition::ROLLER,
+        right: BoundaryCondition::FREE,
+        bottom: BoundaryCondition::ROLLER,
+        top: BoundaryCondition::FREE,
+    };
+    cfg.walls = vec![];
+    let mut sim = Simulation::new(cfg, 1).unwrap();
+    // c t/a² = 0.1 (c = k/(γ_w (1/E_oed + n/K_w)), ν = 0 so E_oed = E).
+    sim.advance(0.1 * a * a / consolidation_coefficient(k), u64::MAX).unwrap();
+    let p = sim.particles();
+    let mean = (0..p.len()).map(|i| p.stress[i][1] - p.pore_pressure[i]).sum::<f64>() / p.len() as f64;
+    // The surface's settlement above each column of particles, extrapolated linearly to y = b
+    // from the two particles of the top cell (linear shape functions: displacement linear in y
+    // inside a cell): the plate's, whatever x.
+    let displacement = |x0: [f64; 2]| {
+        let i = (0..p.len()).find(|&i| (p.initial_position[i][0] - x0[0]).abs() < 1e-9 && (p.initial_position[i][1] - x0[1]).abs() < 1e-9).unwrap();
+        p.position[i][1] - p.initial_position[i][1]
+    };
+    let top: Vec<f64> = (0..2 * cells)
+        .map(|c| {
+            let x = (c as f64 + 0.5) * h / 2.0;
+            let (upper, lower) = (displacement([x, b - 0.25 * h]), displacement([x, b - 0.75 * h]));
+            upper + 0.5 * (upper - lower)
+        })
+        .collect();
+    let spread = top.iter().fold(f64::NEG_INFINITY, |m, &d| m.max(d)) - top.iter().fold(f64::INFINITY, |m, &d| m.min(d));
+    let centre = p.pore_pressure.iter().zip(&p.initial_position).filter(|(_, x)| x[0] < h).map(|(p, _)| *p).fold(0.0, f64::max);
+    let edge = p.pore_pressure.iter().zip(&p.initial_position).filter(|(_, x)| x[0] > a - h).map(|(p, _)| *p).fold(0.0, f64::max);
+    println!("mean σ_yy / q {:.5}, settlement spread {spread:.3e} m of {:.3e}, p centre {centre:.1} edge {edge:.1}", mean / LOAD, top[0]);
+    assert!((mean / LOAD + 1.0).abs() < 5e-3, "{}", mean / LOAD);
+    assert!(top[0] < 0.0 && spread < 1e-3 * top[0].abs(), "{spread} {top:?}");
+    // Drained at the side, not at the centre.
+    assert!(edge < 0.3 * centre, "{centre} {edge}");
 }

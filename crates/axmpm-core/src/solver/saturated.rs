@@ -29,6 +29,11 @@
 //! over the particles of each background cell (the cell-centre volumetric rate, as the mean
 //! dilatation does for the solid), which keeps the pressure field free of checkerboards.
 //!
+//! A loading plate (`loading_plate`: the surface load through a rigid, frictionless,
+//! impermeable plate, as in Mandel's problem) makes the nodes of the grid row at the loaded
+//! surface move vertically together, with the water's vertical velocity held to the solid's
+//! there ([`move_plate`]).
+//!
 //! A run without a saturated body never enters this module (`Simulation` selects the dry
 //! step), so dry results are unchanged bit for bit.
 
@@ -125,6 +130,8 @@ pub struct WaterState {
     /// of the drag on the relative flow ([`drag_work`]), J.
     pub outflow: f64,
     pub drag_work: f64,
+    /// The grid row of the loading plate's nodes (`None`: no plate).
+    pub plate_row: Option<usize>,
 }
 
 impl WaterState {
@@ -137,6 +144,11 @@ impl WaterState {
         let saturated: Vec<f64> = (0..n).filter(|&p| particles.porosity[p] > 0.0).map(|p| density * particles.volume[p]).collect();
         let mean = saturated.iter().sum::<f64>() / saturated.len().max(1) as f64;
         let axisymmetric = config.simulation.formulation == FormulationKind::Axisymmetric;
+        let plate = plate_row(config, grid, particles);
+        let mut impermeable = impermeable_nodes(grid, &config.boundaries, &config.drainage, &config.walls, axisymmetric);
+        if let Some(row) = plate {
+            impermeable.extend((0..grid.nodes[0]).map(|i| (grid.node_index(i, row) as u32, 1)));
+        }
         Some(Box::new(Self {
             bulk_modulus,
             density,
@@ -148,7 +160,7 @@ impl WaterState {
             force: vec![[0.0; 2]; nodes],
             velocity: vec![[0.0; 2]; nodes],
             velocity_new: vec![[0.0; 2]; nodes],
-            impermeable: impermeable_nodes(grid, &config.boundaries, &config.drainage, &config.walls, axisymmetric),
+            impermeable,
             loaded: particles.external_force.iter().any(|f| *f != [0.0; 2]),
             water_dilatation: vec![0.0; n],
             volume_before: vec![0.0; n],
@@ -156,8 +168,26 @@ impl WaterState {
             cell_storage: vec![0.0; cells],
             outflow: 0.0,
             drag_work: 0.0,
+            plate_row: plate,
         }))
     }
+}
+
+/// The grid row of the loading plate: the row nearest the highest loaded surface (the upper
+/// edges of the particles that carry a surface load), when some body asks for a plate.
+fn plate_row(config: &Config, grid: &GridGeometry, particles: &Particles) -> Option<usize> {
+    if !config.bodies.iter().any(|b| b.saturated.as_ref().is_some_and(|s| s.loading_plate)) {
+        return None;
+    }
+    let top = (0..particles.len())
+        .filter(|&p| particles.external_force[p] != [0.0; 2])
+        .map(|p| particles.position[p][1] + particles.initial_half_width[p][1])
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !top.is_finite() {
+        return None;
+    }
+    let row = ((top - grid.origin[1]) / grid.cell_size).round();
+    Some(row.clamp(0.0, (grid.nodes[1] - 1) as f64) as usize)
 }
 
 /// The (node, direction) pairs where no water crosses: impermeable faces (and the nodes of
@@ -504,6 +534,9 @@ fn update_grid(state: &mut State, dt: f64) {
                 }
             }
         });
+    if let Some(row) = water.plate_row {
+        move_plate(fields, water, row, nx, dt, &params);
+    }
     constrain_velocities(state, dt);
     let fields = &state.fields;
     let water = state.water.as_mut().expect("a saturated run has its water");
@@ -537,6 +570,43 @@ fn update_grid(state: &mut State, dt: f64) {
         water.velocity[node][d] = fields.velocity[node][d];
     }
     water.drag_work += drag_work(water, &fields.velocity_new, dt, first_row..first_row + rows, columns, nx);
+}
+
+/// The loading plate: the nodes of grid row `row` take one vertical velocity V⁺. The plate is
+/// rigid, massless and impermeable, so on its nodes the water moves with the solid (w⁺ = v⁺ = V⁺
+/// vertically) and the vertical momentum balance of the row, with the plate's reactions summing
+/// to zero, gives Σ (M_s + M_w) V⁺ = Σ (M_s v + M_w w) + Δt Σ F over the row's nodes (the surface
+/// load is in F). Frictionless: the horizontal velocities are left as they are. One thread, in
+/// node order.
+fn move_plate(
+    fields: &mut crate::grid::GridFields,
+    water: &WaterState,
+    row: usize,
+    nx: usize,
+    dt: f64,
+    params: &super::StepParameters,
+) {
+    let nodes = row * nx..(row + 1) * nx;
+    let (mut inertia, mut momentum, mut force) = (0.0, 0.0, 0.0);
+    for k in nodes.clone() {
+        let m = fields.mass[k];
+        if m <= params.mass_threshold {
+            continue;
+        }
+        let m_w = if water.equation_mass[k] > water.mass_threshold { water.mass[k] } else { 0.0 };
+        inertia += m + m_w;
+        momentum += m * fields.velocity[k][1] + m_w * water.velocity[k][1];
+        force += fields.force[k][1];
+    }
+    if inertia > 0.0 {
+        // The damping acts on the plate's unbalanced force as a whole: its nodes' forces need
+        // not vanish one by one (the plate redistributes them), and damping each would push the
+        // plate up by α Σ |F_k|.
+        let plate = (momentum + dt * damped(force, params.damping, momentum / inertia)) / inertia;
+        for k in nodes.filter(|&k| fields.mass[k] > 0.0) {
+            fields.velocity_new[k][1] = plate;
+        }
+    }
 }
 
 /// The work of the implicit drag over one step over the nodes of `rows` × `columns` (one
