@@ -798,6 +798,83 @@ mod tests {
     }
 
     #[test]
+    fn outflow_is_the_pore_volume_lost_plus_the_water_expansion() {
+        // The pore volume shrank by 0.1 with the water's pressure unchanged (e = 0): 0.1 left.
+        assert!((outflow_increment(2.0, 1.9, 0.0) - 0.1).abs() < 1e-15);
+        // No volume change, the pressure fell (e > 0): the water's expansion e V left.
+        assert!((outflow_increment(1.0, 1.0, 3e-6) - 3e-6).abs() < 1e-18);
+        // Both: the new volume weights the storage strain.
+        assert!((outflow_increment(1.0, 0.5, 1e-3) - (0.5e-3 + 0.5)).abs() < 1e-15);
+    }
+
+    /// A 3 × 2 node water state with the given nodal masses, drags and velocities.
+    fn water_on(nodes: usize, m_eq: f64, n: f64, q: f64, w: [f64; 2]) -> WaterState {
+        WaterState {
+            mass_threshold: 1e-9,
+            equation_mass: vec![m_eq; nodes],
+            mass: vec![n * m_eq; nodes],
+            drag: vec![q; nodes],
+            velocity: vec![w; nodes],
+            velocity_new: vec![w; nodes],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn drag_work_is_n_q_relative_speed_squared_over_the_region() {
+        let (nx, ny) = (3, 2);
+        let mut water = water_on(nx * ny, 2.0, 0.25, 8.0, [0.3, -0.4]);
+        let v = vec![[0.0; 2]; nx * ny];
+        // |w − v|² = 0.25, n Q = 2 per node, Δt = 0.5: 0.25 per node.
+        let all = drag_work(&water, &v, 0.5, 0..ny, 0..=nx - 1, nx);
+        assert!((all - 6.0 * 0.25).abs() < 1e-12, "{all}");
+        // Only the region's nodes, and none without water.
+        let one_row = drag_work(&water, &v, 0.5, 1..2, 1..=2, nx);
+        assert!((one_row - 2.0 * 0.25).abs() < 1e-12, "{one_row}");
+        water.equation_mass[nx + 1] = 0.0;
+        assert!((drag_work(&water, &v, 0.5, 1..2, 1..=2, nx) - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn plate_moves_its_row_together_under_the_total_force() {
+        let (nx, ny) = (3, 2);
+        let params = crate::solver::StepParameters {
+            flip_fraction: 1.0,
+            damping: 0.0,
+            scheme: crate::config::UpdateScheme::Musl,
+            mass_threshold: 1e-9,
+            volumetric_averaging: crate::config::VolumetricAveraging::None,
+            axisymmetric: false,
+            isa: crate::solver::Isa::Baseline,
+        };
+        let mut fields = crate::grid::GridFields::new(nx * ny);
+        let water = water_on(nx * ny, 1.0, 0.5, 3.0, [0.0, -0.1]);
+        for (i, (m, f)) in [(1.0, -4.0), (2.0, 1.0), (0.0, 7.0)].into_iter().enumerate() {
+            let k = nx + i;
+            fields.mass[k] = m;
+            fields.velocity[k] = [0.2 * i as f64, -0.1];
+            fields.velocity_new[k] = [0.5, 9.0];
+            fields.force[k] = [1.0, f];
+        }
+        let dt = 0.1;
+        move_plate(&mut fields, &water, 1, nx, dt, &params);
+        // Σ (M_s + M_w) V⁺ = Σ (M_s v + M_w w) + Δt Σ F over the nodes with mass (the third has none).
+        let expected = ((1.0 + 2.0) * -0.1 + 2.0 * 0.5 * -0.1 + dt * (-4.0 + 1.0)) / (1.0 + 2.0 + 2.0 * 0.5);
+        for k in [nx, nx + 1] {
+            assert!((fields.velocity_new[k][1] - expected).abs() < 1e-15, "{:?}", fields.velocity_new[k]);
+            assert_eq!(fields.velocity_new[k][0], 0.5, "frictionless: the horizontal velocity is left");
+        }
+        assert_eq!(fields.velocity_new[nx + 2], [0.5, 9.0], "a node without mass is left");
+        assert_eq!(fields.velocity_new[0], [0.0; 2], "the other rows are left");
+        // Damping acts on the total: with the plate moving down and Σ F = −3 N, the force becomes
+        // −3 + α·3 (against the motion), not Σ (F_k + α |F_k|).
+        let damped_params = crate::solver::StepParameters { damping: 0.5, ..params };
+        move_plate(&mut fields, &water, 1, nx, dt, &damped_params);
+        let damped_expected = ((1.0 + 2.0) * -0.1 + 2.0 * 0.5 * -0.1 + dt * (-3.0 + 1.5)) / 4.0;
+        assert!((fields.velocity_new[nx][1] - damped_expected).abs() < 1e-15, "{:?}", fields.velocity_new[nx]);
+    }
+
+    #[test]
     fn wave_speed_is_the_undrained_one_or_the_faster_phase() {
         // E_c = 1e7, ρ_s = 2650, n = 0.4, K_w = 2.2e9, ρ_w = 1000: undrained
         // √((1e7 + 5.5e9)/(1590 + 400)) = 1663.9 m/s, above the water's 1483.2 m/s.
