@@ -157,6 +157,20 @@ def test_loading_plate_needs_the_top_on_a_grid_line() -> None:
     assert "bodies.0.saturated.loading_plate" in str(info.value) and "surface_load > 0" in str(info.value)
 
 
+def test_prescribed_pressure_needs_a_drained_face() -> None:
+    data = _scenario()
+    data["drainage"] = {"pressure": {"bottom": 5e3}}
+    assert Scenario.from_dict(data).drainage.pressure.bottom == 5e3
+    data["drainage"] = {"bottom": "impermeable", "pressure": {"bottom": 5e3}}
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(data)
+    assert "drainage.pressure.bottom" in str(info.value) and "drained face" in str(info.value)
+    data["drainage"] = {"pressure": {"bottom": "high"}}
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(data)
+    assert "drainage.pressure.bottom" in str(info.value)
+
+
 def test_command_line_exits_2_naming_the_key(tmp_path: Path) -> None:
     import tomli_w
 

@@ -440,6 +440,31 @@ pub struct DrainageConfig {
     pub bottom: Option<Drainage>,
     #[serde(default)]
     pub top: Option<Drainage>,
+    /// Faces where the water outside stands at a given pressure (Pa, compression positive):
+    /// drained faces with p = this instead of 0.
+    #[serde(default)]
+    pub pressure: FacePressures,
+}
+
+/// A prescribed pore pressure per grid face (`None`: p = 0 where the face is drained).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FacePressures {
+    #[serde(default)]
+    pub left: Option<f64>,
+    #[serde(default)]
+    pub right: Option<f64>,
+    #[serde(default)]
+    pub bottom: Option<f64>,
+    #[serde(default)]
+    pub top: Option<f64>,
+}
+
+impl FacePressures {
+    /// [left, right, bottom, top].
+    pub fn faces(&self) -> [Option<f64>; 4] {
+        [self.left, self.right, self.bottom, self.top]
+    }
 }
 
 impl DrainageConfig {
@@ -447,20 +472,42 @@ impl DrainageConfig {
         *self == Self::default()
     }
 
-    /// The drainage of each face [left, right, bottom, top], the defaults resolved.
+    /// The drainage of each face [left, right, bottom, top], the defaults resolved: a face with
+    /// a prescribed pressure is drained.
     pub fn resolve(&self, faces: &BoundariesConfig) -> [Drainage; 4] {
-        let default = |c: Condition| if c == Condition::Free { Drainage::Drained } else { Drainage::Impermeable };
+        let default = |c: Condition, p: Option<f64>| {
+            if c == Condition::Free || p.is_some() {
+                Drainage::Drained
+            } else {
+                Drainage::Impermeable
+            }
+        };
+        let [pl, pr, pb, pt] = self.pressure.faces();
         [
-            self.left.unwrap_or(default(faces.left.condition)),
-            self.right.unwrap_or(default(faces.right.condition)),
-            self.bottom.unwrap_or(default(faces.bottom.condition)),
-            self.top.unwrap_or(default(faces.top.condition)),
+            self.left.unwrap_or(default(faces.left.condition, pl)),
+            self.right.unwrap_or(default(faces.right.condition, pr)),
+            self.bottom.unwrap_or(default(faces.bottom.condition, pb)),
+            self.top.unwrap_or(default(faces.top.condition, pt)),
         ]
     }
 }
 
-/// Range checks of the `saturated` tables, naming the key; one pore water per run.
+/// Range checks of the `saturated` tables, naming the key; one pore water per run; prescribed
+/// face pressures finite and on drained faces.
 fn validate_saturated(config: &Config) -> Result<(), String> {
+    let d = &config.drainage;
+    let names = ["left", "right", "bottom", "top"];
+    let explicit = [d.left, d.right, d.bottom, d.top];
+    for ((name, p), given) in names.iter().zip(d.pressure.faces()).zip(explicit) {
+        if let Some(p) = p {
+            if !p.is_finite() {
+                return Err(format!("drainage.pressure.{name} must be finite (got {p})"));
+            }
+            if given == Some(Drainage::Impermeable) {
+                return Err(format!("drainage.pressure.{name}: the face is impermeable; a prescribed pressure needs a drained face"));
+            }
+        }
+    }
     let mut water: Option<(f64, f64)> = None;
     let g = &config.grid;
     for (i, b) in config.bodies.iter().enumerate() {

@@ -338,3 +338,34 @@ fn the_loading_plate_carries_the_whole_load_with_a_uniform_settlement() {
     // Drained at the side, not at the centre.
     assert!(edge < 0.3 * centre, "{centre} {edge}");
 }
+
+#[test]
+fn a_prescribed_pressure_at_the_base_drives_a_steady_upward_seepage() {
+    // The Terzaghi column (plane strain and the ring off the axis) with its base drained at
+    // p̄ = LOAD/2 instead of impermeable, the top drained at 0: once the load's excess pressure
+    // has diffused (T_v = 1.5: the slowest mode exp(−π² T_v) is 4e-7), the pressure is linear,
+    // p̄ (1 − y/H), within 1 % of p̄ at the cell centres, and the water rises at Darcy's rate,
+    // n (w − v) = k p̄ /(γ_w H), within 1 %.
+    let k = 1e-3;
+    let cells = 10;
+    let h = HEIGHT / cells as f64;
+    let base = 0.5 * LOAD;
+    for formulation in [FormulationKind::PlaneStrain, FormulationKind::Axisymmetric] {
+        let mut cfg = column(formulation, cells, k);
+        cfg.drainage.pressure.bottom = Some(base);
+        let mut sim = Simulation::new(cfg, 1).unwrap();
+        sim.advance(1.5 * HEIGHT * HEIGHT / consolidation_coefficient(k), u64::MAX).unwrap();
+        let p = sim.particles();
+        let worst = (0..p.len())
+            .map(|i| {
+                let centre = ((p.position[i][1] / h).floor() + 0.5) * h;
+                (p.pore_pressure[i] - base * (1.0 - centre / HEIGHT)).abs() / base
+            })
+            .fold(0.0, f64::max);
+        let flux = (0..p.len()).map(|i| p.porosity[i] * (p.water_velocity[i][1] - p.velocity[i][1])).sum::<f64>() / p.len() as f64;
+        let darcy = k * base / (RHO_W * STANDARD_GRAVITY * HEIGHT);
+        println!("{formulation:?}: max |Δp|/p̄ {worst:.2e}, flux {flux:.5e} vs Darcy {darcy:.5e}");
+        assert!(worst < 0.01, "{formulation:?}: {worst}");
+        assert!((flux / darcy - 1.0).abs() < 0.01, "{formulation:?}: {flux} vs {darcy}");
+    }
+}

@@ -28,7 +28,7 @@ from .messages import convert_errors
 from .regions import body_type
 from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
 from .probes import Probe, probe_errors
-from .saturated import Drainage, saturated_errors
+from .saturated import Drainage, drainage_errors, saturated_errors
 from .sections import Grid, Simulation
 
 __all__ = ["Scenario", "Material", "Body", "schema_json"]
@@ -141,7 +141,7 @@ def _cross_check(s: Scenario) -> list[tuple[str, str]]:
     return cross_check_parts(
         s.simulation, s.grid, dict(s.materials), list(s.materials), list(s.bodies), s.boundaries, list(s.walls),
         list(s.rigid_bodies), list(s.probes),
-    )
+    ) + drainage_errors(s.drainage)
 
 
 def _grid_cells_ok(grid: Grid, errors: list[tuple[str, str]]) -> bool:
@@ -299,7 +299,9 @@ def _partial_cross_check(data: dict[str, Any]) -> list[tuple[str, str]]:
     rigid = [_validate_part(RigidBody, b) for b in raw_rigid] if isinstance(raw_rigid, list) else None
     raw_probes = data.get("probes", [])
     probes = [_validate_part(Probe, p) for p in raw_probes] if isinstance(raw_probes, list) else None
-    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid, probes)
+    drainage = _validate_part(Drainage, data.get("drainage", {}))
+    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid, probes) + drainage_errors(
+        drainage)
 
 
 def _merge_errors(field: list[tuple[str, str]], cross: list[tuple[str, str]]) -> list[tuple[str, str]]:

@@ -12,7 +12,7 @@ from pydantic import Field
 
 from .fields import NonNegative, Positive, Section, bounded, fmt, on_grid_line
 
-__all__ = ["Saturated", "Drainage", "saturated_errors"]
+__all__ = ["Saturated", "Drainage", "FacePressures", "saturated_errors", "drainage_errors"]
 
 
 class Saturated(Section):
@@ -42,17 +42,40 @@ class Saturated(Section):
 
 
 DrainageName = Literal["drained", "impermeable"]
+FACES = ("left", "right", "bottom", "top")
+
+
+class FacePressures(Section):
+    """``[drainage.pressure]``: faces where the water outside stands at a given pressure."""
+
+    left: float | None = Field(None, description="Pa (compression positive)")
+    right: float | None = Field(None, description="Pa (compression positive)")
+    bottom: float | None = Field(None, description="Pa (compression positive)")
+    top: float | None = Field(None, description="Pa (compression positive)")
 
 
 class Drainage(Section):
     """``[drainage]``: what each grid face does to the pore water. A face not given is
-    impermeable when its boundary condition supports the solid and drained when it is free;
-    the axis and the walls are impermeable."""
+    impermeable when its boundary condition supports the solid and drained when it is free
+    or has a prescribed pressure; the axis and the walls are impermeable."""
 
     left: DrainageName | None = None
     right: DrainageName | None = None
     bottom: DrainageName | None = None
     top: DrainageName | None = None
+    pressure: FacePressures = Field(
+        default_factory=FacePressures,
+        description="a drained face's pore pressure p (Pa) instead of 0: the water outside stands at p",
+    )
+
+
+def drainage_errors(drainage: Drainage | None) -> list[tuple[str, str]]:
+    """A prescribed pressure needs a face that lets the water through."""
+    if drainage is None:
+        return []
+    return [(f"drainage.pressure.{face}", 'the face is "impermeable"; a prescribed pressure needs a drained face')
+            for face in FACES
+            if getattr(drainage.pressure, face) is not None and getattr(drainage, face) == "impermeable"]
 
 
 def saturated_errors(bodies: list[Any] | None, grid: Any) -> list[tuple[str, str]]:

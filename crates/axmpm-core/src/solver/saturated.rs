@@ -132,6 +132,8 @@ pub struct WaterState {
     pub drag_work: f64,
     /// The grid row of the loading plate's nodes (`None`: no plate).
     pub plate_row: Option<usize>,
+    /// Prescribed pore pressures of the faces [left, right, bottom, top] (`[drainage.pressure]`).
+    pub face_pressures: [Option<f64>; 4],
 }
 
 impl WaterState {
@@ -169,6 +171,7 @@ impl WaterState {
             outflow: 0.0,
             drag_work: 0.0,
             plate_row: plate,
+            face_pressures: config.drainage.pressure.faces(),
         }))
     }
 }
@@ -358,6 +361,11 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
         reached = reached.union(add_surface_loads(&grid, particles, &mut state.fields.force));
         serial += serial_start.elapsed();
     }
+    if water.face_pressures.iter().any(Option::is_some) {
+        let serial_start = std::time::Instant::now();
+        add_face_pressures::<F>(&grid, water, &mut state.fields.force);
+        serial += serial_start.elapsed();
+    }
     state.scratch.grid_region = reached.union(previous);
     state.scratch.grid_reached = reached;
     state.timings.serial += serial.as_secs_f64();
@@ -473,6 +481,46 @@ fn add_surface_loads(grid: &GridGeometry, particles: &Particles, force: &mut [[f
         }
     }
     reached
+}
+
+/// The boundary term of a face where the water outside stands at a prescribed pressure p̄:
+/// −∮ N_k p̄ n dS (× r in axisymmetry, per radian) on both the water's force (the weak form of
+/// −∇p, whose boundary term vanishes where p = 0) and the mixture's (the water outside pushes
+/// on the total stress; on a supported face the constraint takes the normal part). Only the
+/// face's segments whose two nodes carry water count: ∫ N_a r dr = h (2 r_a + r_b)/6 over a
+/// segment [r_a, r_b] (h/2 in plane strain). Exact for linear shape functions, whose nodal
+/// support ends at the body's edge. One thread, in node order; adds to nodes the particles
+/// reached (nodes with water).
+fn add_face_pressures<F: Formulation>(grid: &GridGeometry, water: &mut WaterState, force: &mut [[f64; 2]]) {
+    let [nx, ny] = grid.nodes;
+    let h = grid.cell_size;
+    // Per face [left, right, bottom, top]: its outward normal, its node count, its t-th node.
+    let normals = [[-1.0, 0.0], [1.0, 0.0], [0.0, -1.0], [0.0, 1.0]];
+    let node = |face: usize, t: usize| match face {
+        0 => grid.node_index(0, t),
+        1 => grid.node_index(nx - 1, t),
+        2 => grid.node_index(t, 0),
+        _ => grid.node_index(t, ny - 1),
+    };
+    for (face, pressure) in water.face_pressures.into_iter().enumerate() {
+        let Some(pressure) = pressure else { continue };
+        let (normal, count) = (normals[face], if face < 2 { ny } else { nx });
+        for t in 0..count - 1 {
+            let (a, b) = (node(face, t), node(face, t + 1));
+            if water.equation_mass[a] <= water.mass_threshold || water.equation_mass[b] <= water.mass_threshold {
+                continue;
+            }
+            let radius = |k: usize| if F::AXISYMMETRIC { grid.node_position(k)[0] } else { 1.0 };
+            let (ra, rb) = (radius(a), radius(b));
+            for (k, length) in [(a, h * (2.0 * ra + rb) / 6.0), (b, h * (ra + 2.0 * rb) / 6.0)] {
+                for d in 0..2 {
+                    let push = -pressure * normal[d] * length;
+                    water.force[k][d] += push;
+                    force[k][d] += push;
+                }
+            }
+        }
+    }
 }
 
 /// Nodal velocities of both phases before and after the coupled momentum update, with the
