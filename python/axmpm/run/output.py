@@ -15,7 +15,9 @@ Layout of a run folder::
                              the ring, in place of a force_x); per rigid body also
                              NAME.displacement_x/y (m) and the force split into
                              NAME.base_force_x/y (contact normals facing down) and
-                             NAME.shaft_force_x/y (the rest)
+                             NAME.shaft_force_x/y (the rest); per surcharge
+                             NAME.applied_force_y, the force it applies to the material
+                             (N, negative: downward)
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these

@@ -311,11 +311,12 @@ class _Driver:
         axisymmetric = self.sim_cfg.formulation == "axisymmetric"
         reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
         rigid = rigid_body_columns(sim, axisymmetric)
+        surcharges = {f"{name}.applied_force_y": float(fy) for name, _, fy in sim.surcharge_forces()}
         self.history.append(
             {"time": time, "steps": steps, "dt": float(sim.dt),
              **dict(sorted(energies.items())), "wall_seconds": self.wall(),
              **reaction_columns(reactions, axisymmetric),
-             **rigid}
+             **rigid, **surcharges}
         )
         if axisymmetric:
             # The radial resultant of a ring is zero; the radial sum is reported apart.

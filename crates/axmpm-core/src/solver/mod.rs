@@ -28,6 +28,7 @@ pub mod isa;
 pub mod particle_to_grid;
 pub mod particle_update;
 pub mod saturated;
+pub mod surface_load;
 pub mod tiles;
 
 pub use isa::Isa;
@@ -96,6 +97,8 @@ pub struct State {
     pub timings: PhaseTimings,
     /// The pore water's nodal fields and scratch (saturated runs only, [`saturated`]).
     pub water: Option<Box<saturated::WaterState>>,
+    /// The share of the surface loads applied in this step (the gravity ramp, 0..1).
+    pub load_factor: f64,
 }
 
 /// Wall-clock seconds per phase of the step (for `axmpm bench`).

@@ -66,7 +66,13 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
         }
         serial += serial_start.elapsed();
     }
-    let reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
+    let mut reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
+    if !particles.external_force.is_empty() {
+        let serial_start = std::time::Instant::now();
+        let loads = super::surface_load::add_surface_loads(&grid, particles, state.load_factor, &mut state.fields.force);
+        reached = reached.union(loads);
+        serial += serial_start.elapsed();
+    }
     state.scratch.grid_region = reached.union(previous);
     state.scratch.grid_reached = reached;
     state.timings.serial += serial.as_secs_f64();
