@@ -91,7 +91,7 @@ def test_toml_round_trip_is_exact() -> None:
 def test_engine_json_has_every_section() -> None:
     d = json.loads(Scenario.from_dict(base()).engine_json())
     assert set(d) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls", "rigid_bodies", "drainage",
-                      "surcharges"}
+                      "surcharges", "probes"}
     assert d["materials"]["soil"]["model"] == "linear_elastic"
     assert d["bodies"][0]["k0"] == pytest.approx(0.3 / 0.7)
 
@@ -346,5 +346,5 @@ def test_missing_file(tmp_path: Path) -> None:
 def test_schema_lists_sections() -> None:
     schema = Scenario.model_json_schema()
     assert set(schema["properties"]) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls",
-                                         "rigid_bodies", "drainage", "surcharges"}
+                                         "rigid_bodies", "drainage", "surcharges", "probes"}
     assert schema["$defs"]["Simulation"]["properties"]["cfl"]["exclusiveMinimum"] == 0.0

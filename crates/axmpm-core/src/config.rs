@@ -515,6 +515,10 @@ pub struct SaturatedConfig {
     /// particles from t = 0 on (the load of a consolidation test).
     #[serde(default)]
     pub surface_load: f64,
+    /// The surface load acts through a rigid, frictionless, impermeable plate: the nodes of the
+    /// grid row at the loaded surface move vertically together (`solver::saturated`).
+    #[serde(default)]
+    pub loading_plate: bool,
 }
 
 /// What a grid face does to the pore water.

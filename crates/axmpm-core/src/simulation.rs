@@ -58,6 +58,11 @@ pub struct Energies {
     pub boundary_normal_dissipation: f64,
     /// ... and the tangential component (Coulomb friction; roller walls remove none).
     pub boundary_friction_dissipation: f64,
+    /// Saturated runs (0 otherwise): the pore water's kinetic energy Σ ½ n_p ρ_w V_p |w_p|² ...
+    pub water_kinetic_energy: f64,
+    /// ... and the work of the Darcy drag on the flow relative to the skeleton since the start
+    /// of the run (`solver::saturated`, dissipated).
+    pub drag_dissipation: f64,
 }
 
 impl Energies {
@@ -69,6 +74,8 @@ impl Energies {
             - self.plastic_work
             - self.boundary_normal_dissipation
             - self.boundary_friction_dissipation
+            - self.water_kinetic_energy
+            - self.drag_dissipation
     }
 }
 
@@ -84,6 +91,10 @@ struct Checkpoint {
     /// metre); absent in older checkpoints (then 0).
     #[serde(default)]
     boundary_dissipation: [f64; 2],
+    /// Saturated runs: the water's outflow and drag work so far (per radian or metre); absent
+    /// in dry runs' and older checkpoints (then 0).
+    #[serde(default)]
+    water_totals: [f64; 2],
     /// The particles' tiles since the last sort (`particles` are stored in that order, with
     /// their ids); absent in older checkpoints (then the particles are sorted on resume).
     #[serde(default)]
@@ -571,6 +582,13 @@ impl Simulation {
             .collect()
     }
 
+    /// The water volume that left the saturated bodies since the start of the run, m³ per
+    /// metre (plane strain) or per radian (axisymmetric) (`solver::saturated::outflow_increment`);
+    /// `None` in a dry run.
+    pub fn water_outflow(&self) -> Option<f64> {
+        self.state.water.as_ref().map(|w| w.outflow)
+    }
+
     /// The energy budget ([`Energies`]), summed in particle order (deterministic).
     pub fn energies(&self) -> Energies {
         let p = &self.state.particles;
@@ -594,8 +612,18 @@ impl Simulation {
                 e.plastic_work += p.initial_volume[i] * p.state[i * p.state_stride + k];
             }
         }
+        if let Some(water) = &self.state.water {
+            for &i in &index {
+                let i = i as usize;
+                let w = p.water_velocity[i];
+                e.water_kinetic_energy += 0.5 * p.porosity[i] * water.density * p.volume[i] * (w[0] * w[0] + w[1] * w[1]);
+            }
+            e.drag_dissipation = water.drag_work;
+        }
         let [normal, tangential] = self.state.constraints.dissipated_energy();
         let total = self.total_factor();
+        e.water_kinetic_energy *= total;
+        e.drag_dissipation *= total;
         e.kinetic_energy *= total;
         e.gravity_work *= total;
         e.elastic_energy *= total;
@@ -614,6 +642,7 @@ impl Simulation {
             time: self.state.time,
             steps: self.state.steps,
             boundary_dissipation: self.state.constraints.dissipated_energy(),
+            water_totals: self.state.water.as_ref().map_or([0.0; 2], |w| [w.outflow, w.drag_work]),
             tiles: self.state.tiles.tiles.clone(),
         };
         serde_json::to_vec(&checkpoint).map_err(|e| format!("checkpoint: {e}"))
@@ -627,6 +656,9 @@ impl Simulation {
         }
         let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps, c.tiles)))?;
         sim.state.constraints.restored_dissipation = c.boundary_dissipation;
+        if let Some(water) = sim.state.water.as_mut() {
+            [water.outflow, water.drag_work] = c.water_totals;
+        }
         Ok(sim)
     }
 }

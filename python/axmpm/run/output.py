@@ -17,7 +17,12 @@ Layout of a run folder::
                              NAME.base_force_x/y (contact normals facing down) and
                              NAME.shaft_force_x/y (the rest); per surcharge
                              NAME.applied_force_y, the force it applies to the material
-                             (N, negative: downward)
+                             (N, negative: downward); saturated runs also
+                             water_outflow (m³ per metre or radian: the water that left
+                             through drained faces and free surfaces since the start) and
+                             the energies water_kinetic_energy and drag_dissipation; per
+                             probe NAME.pore_pressure, NAME.stress_*, NAME.displacement_x/y
+                             (axmpm.run.probes)
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these

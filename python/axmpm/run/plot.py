@@ -33,7 +33,7 @@ __all__ = ["NAME", "add_parser", "main", "energy_columns", "history_figure", "pl
 NAME = "plot"
 
 #: Columns of history.csv that are neither an energy nor a constraint's or body's quantity.
-BOOKKEEPING = ("time", "steps", "dt", "wall_seconds")
+BOOKKEEPING = ("time", "steps", "dt", "wall_seconds", "water_outflow")
 
 
 def energy_columns(columns: Sequence[str]) -> list[str]:

@@ -57,6 +57,7 @@ from .output import (
     write_pvd,
     write_text,
 )
+from .probes import probe_columns
 
 __all__ = ["run", "resume", "report_run", "THREADS_HELP", "THREADS_DEFAULT", "thread_count", "check_output_folder", "prepare_output_folder", "checkpoint_every",
            "DEFAULT_CHUNK_STEPS"]
@@ -303,20 +304,26 @@ class _Driver:
 
     # -- pieces -------------------------------------------------------------------------
 
-    def record_history(self, time: float, steps: int) -> None:
+    def record_history(self, time: float, steps: int, frame: FrameData | None = None) -> None:
         """A history row at the current time: energies, reactions (mean forces since the
-        previous row), rigid bodies."""
+        previous row), rigid bodies, probes (from ``frame`` when given, the particles' state now)."""
         sim = self.sim
         energies = {k: float(v) for k, v in sim.energies().items()}
         axisymmetric = self.sim_cfg.formulation == "axisymmetric"
         reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
         rigid = rigid_body_columns(sim, axisymmetric)
         surcharges = {f"{name}.applied_force_y": float(fy) for name, _, fy in sim.surcharge_forces()}
+        outflow = sim.water_outflow()
+        water = {} if outflow is None else {"water_outflow": float(outflow)}
+        probes: dict[str, float] = {}
+        if self.scenario.probes:
+            probes = probe_columns(self.scenario.probes, frame or FrameData.from_simulation(sim),
+                                   self.sim_cfg.formulation, self.scenario.grid.cell_size)
         self.history.append(
             {"time": time, "steps": steps, "dt": float(sim.dt),
-             **dict(sorted(energies.items())), "wall_seconds": self.wall(),
+             **dict(sorted(energies.items())), **water, "wall_seconds": self.wall(),
              **reaction_columns(reactions, axisymmetric),
-             **rigid, **surcharges}
+             **rigid, **surcharges, **probes}
         )
         if axisymmetric:
             # The radial resultant of a ring is zero; the radial sum is reported apart.
@@ -339,7 +346,7 @@ class _Driver:
                 remove_frames_from(out, index)  # an incomplete frame is not kept
             raise
         self.pvd_entries.append((frame.time, vtu))  # complete: its files and the pvd entry
-        self.record_history(frame.time, frame.steps)
+        self.record_history(frame.time, frame.steps, frame)
 
     def snapshot(self, k: int) -> None:
         """Keep the engine state of output ``k`` in memory: the last good restart point."""

@@ -27,6 +27,7 @@ from .materials import engine_key_errors, material_type
 from .messages import convert_errors
 from .regions import body_type
 from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
+from .probes import Probe, probe_errors
 from .saturated import Drainage, saturated_errors
 from .sections import Grid, Simulation
 from .surcharges import Surcharge, surcharge_errors
@@ -51,6 +52,7 @@ class Scenario(Section):
     rigid_bodies: list[RigidBody] = Field(default_factory=list)
     drainage: Drainage = Field(default_factory=Drainage)
     surcharges: list[Surcharge] = Field(default_factory=list)
+    probes: list[Probe] = Field(default_factory=list)
 
     @model_validator(mode="after")
     def _cross_check(self) -> "Scenario":
@@ -140,7 +142,7 @@ def schema_json(indent: int = 2) -> str:
 def _cross_check(s: Scenario) -> list[tuple[str, str]]:
     return cross_check_parts(
         s.simulation, s.grid, dict(s.materials), list(s.materials), list(s.bodies), s.boundaries, list(s.walls),
-        list(s.rigid_bodies), list(s.surcharges),
+        list(s.rigid_bodies), list(s.surcharges), list(s.probes),
     )
 
 
@@ -177,6 +179,7 @@ def cross_check_parts(
     walls: list[Wall | None] | None,
     rigid_bodies: list[RigidBody | None] | None = None,
     surcharges: list[Surcharge | None] | None = None,
+    probes: list[Probe | None] | None = None,
 ) -> list[tuple[str, str]]:
     """Cross checks between sections. ``None`` stands for a part that failed its own field
     checks (or a whole section that did): the checks needing it are skipped, so that this can
@@ -268,6 +271,7 @@ def cross_check_parts(
         taken = set(FACE_NAMES) | {f"wall_{i}" for i in range(len(walls or []))}
         taken |= {b.name for b in rigid_bodies or [] if b is not None and b.name is not None}
         errors.extend(surcharge_errors(surcharges, frame, taken))
+    errors.extend(probe_errors(probes, grid if grid_ok else None))
     return errors
 
 
@@ -310,7 +314,9 @@ def _partial_cross_check(data: dict[str, Any]) -> list[tuple[str, str]]:
     raw_surcharges = data.get("surcharges", [])
     surcharges = ([_validate_part(Surcharge, c) for c in raw_surcharges] if isinstance(raw_surcharges, list)
                   else None)
-    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid, surcharges)
+    raw_probes = data.get("probes", [])
+    probes = [_validate_part(Probe, p) for p in raw_probes] if isinstance(raw_probes, list) else None
+    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid, surcharges, probes)
 
 
 def _merge_errors(field: list[tuple[str, str]], cross: list[tuple[str, str]]) -> list[tuple[str, str]]:

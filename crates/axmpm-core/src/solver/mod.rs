@@ -209,21 +209,42 @@ impl State {
 /// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
 /// any (the state is then left as computed, for inspection).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
+    run_passes::<S>(
+        state,
+        dt,
+        // m_i, p_i and f_i = f_int + f_ext from the particles.
+        |state, cache| particle_to_grid::particle_to_grid::<F, S>(state, gravity, cache),
+        // a_i = (f_int + f_ext)_i / m_i, v⁺_i = v_i + Δt a_i, constrained.
+        |state| grid_update::update_grid(state, dt),
+        // v_p and Δx_p from v⁺ (FLIP/PIC); MUSL: momentum re-mapped, velocities constrained.
+        |state, cache| grid_to_particle::grid_to_particle::<F, S>(state, dt, cache),
+        // L_p, F_p, V_p, σ_p, x_p.
+        |state, cache| particle_update::update_particles::<F, S>(state, dt, cache),
+    )
+}
+
+/// The four passes of one step (the dry ones of [`step`] or the saturated ones), with what
+/// every step shares: the sort when due, the stencil cache, the time of each phase, the clock.
+#[inline(always)]
+pub(super) fn run_passes<S: ShapeFunction>(
+    state: &mut State,
+    dt: f64,
+    scatter: impl FnOnce(&mut State, &mut [S::Cache]),
+    grid: impl FnOnce(&mut State),
+    gather: impl FnOnce(&mut State, &[S::Cache]),
+    update: impl FnOnce(&mut State, &[S::Cache]) -> Result<(), Failure>,
+) -> Result<(), Failure> {
     let t0 = std::time::Instant::now();
     // Counted in particle → grid's time: the sort is there for the scatter.
     state.sort_if_due();
     let mut cache = take_stencil_cache::<S>(state);
-    // m_i, p_i and f_i = f_int + f_ext from the particles.
-    particle_to_grid::particle_to_grid::<F, S>(state, gravity, &mut cache);
+    scatter(state, &mut cache);
     let t1 = std::time::Instant::now();
-    // a_i = (f_int + f_ext)_i / m_i, v⁺_i = v_i + Δt a_i, constrained.
-    grid_update::update_grid(state, dt);
+    grid(state);
     let t2 = std::time::Instant::now();
-    // v_p and Δx_p from v⁺ (FLIP/PIC); MUSL: momentum re-mapped, velocities constrained.
-    grid_to_particle::grid_to_particle::<F, S>(state, dt, &cache);
+    gather(state, &cache);
     let t3 = std::time::Instant::now();
-    // L_p, F_p, V_p, σ_p, x_p.
-    let result = particle_update::update_particles::<F, S>(state, dt, &cache);
+    let result = update(state, &cache);
     let t4 = std::time::Instant::now();
     state.scratch.stencil_cache = Some(Box::new(cache));
     state.timings.particle_to_grid += (t1 - t0).as_secs_f64();
