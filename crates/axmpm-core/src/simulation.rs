@@ -116,6 +116,8 @@ pub struct Simulation {
     reactions_since: f64,
     /// Time of the last [`Simulation::rigid_body_parts`] call.
     parts_since: f64,
+    /// Each surcharge's force at full load, N per metre or per radian ([`crate::setup::surcharge_forces`]).
+    surcharge_totals: Vec<[f64; 2]>,
 }
 
 /// What a run needs of its interpolation scheme, resolved once from the scenario's names:
@@ -288,6 +290,10 @@ impl Simulation {
             dt
         };
         let water = solver::saturated::WaterState::new(&config, &grid, &particles);
+        let surcharge_totals = match s.formulation {
+            FormulationKind::PlaneStrain => crate::setup::surcharge_forces::<PlaneStrain>(&config, &particles),
+            FormulationKind::Axisymmetric => crate::setup::surcharge_forces::<Axisymmetric>(&config, &particles),
+        };
         let mut state = State {
             water,
             grid,
@@ -303,6 +309,7 @@ impl Simulation {
             time,
             steps,
             timings: Default::default(),
+            load_factor: 1.0,
         };
         state.allocate_scratch();
         state.scratch.cell_laplacian = crate::material::CellLaplacian::of(&state.materials, &grid, || {
@@ -338,14 +345,38 @@ impl Simulation {
             failure: None,
             reactions_since,
             parts_since: reactions_since,
+            surcharge_totals,
         })
     }
 
     /// Gravity at the current time: ramped linearly from zero over `gravity_ramp_time`.
     pub fn gravity(&self) -> [f64; 2] {
         let s = &self.config.simulation;
-        let factor = if s.gravity_ramp_time > 0.0 { (self.state.time / s.gravity_ramp_time).min(1.0) } else { 1.0 };
+        let factor = self.load_factor();
         [s.gravity[0] * factor, s.gravity[1] * factor]
+    }
+
+    /// The share of gravity and of the surcharges applied at the current time: ramped
+    /// linearly from zero over `gravity_ramp_time`, 1 without a ramp.
+    pub fn load_factor(&self) -> f64 {
+        let s = &self.config.simulation;
+        if s.gravity_ramp_time > 0.0 { (self.state.time / s.gravity_ramp_time).min(1.0) } else { 1.0 }
+    }
+
+    /// Each surcharge's name and the force it applies to the material now (N per metre in
+    /// plane strain, whole ring in axisymmetry; negative: downward).
+    pub fn surcharge_forces(&self) -> Vec<(String, [f64; 2])> {
+        let factor = self.load_factor() * if self.state.parameters.axisymmetric { std::f64::consts::TAU } else { 1.0 };
+        self.config
+            .surcharges
+            .iter()
+            .zip(&self.surcharge_totals)
+            .enumerate()
+            .map(|(i, (c, total))| {
+                let name = c.name.clone().unwrap_or_else(|| format!("surcharge_{i}"));
+                (name, [factor * total[0], factor * total[1]])
+            })
+            .collect()
     }
 
     /// Advances to time `until` (the last step shortened to land on it exactly) or by
@@ -369,6 +400,7 @@ impl Simulation {
                 (self.dt, false)
             };
             let gravity = self.gravity();
+            self.state.load_factor = self.load_factor();
             let step_fn = self.scheme.step;
             let state = &mut self.state;
             let result = self.pool.install(|| step_fn(state, dt, gravity));

@@ -193,6 +193,11 @@ impl PySimulation {
     fn reactions(&mut self) -> Vec<(String, f64, f64)> {
         self.inner.reactions().into_iter().map(|(name, f)| (name, f[0], f[1])).collect()
     }
+    /// Per surcharge, the force it applies to the material now (N; axisymmetric: the whole
+    /// ring; plane strain: per metre; negative y: downward): [(name, force_x, force_y), ...].
+    fn surcharge_forces(&self) -> Vec<(String, f64, f64)> {
+        self.inner.surcharge_forces().into_iter().map(|(name, f)| (name, f[0], f[1])).collect()
+    }
     /// Names `reactions()` reports, in order.
     fn reaction_names(&self) -> Vec<String> {
         self.inner.reaction_names()

@@ -83,7 +83,7 @@ def _unit(column: str, per_metre: bool) -> str:
     quantity = column.rsplit(".", 1)[-1]
     if quantity in ("time", "dt", "wall_seconds"):
         return "s"
-    if quantity.rsplit("_", 1)[0] in ("force", "base_force", "shaft_force"):
+    if quantity.rsplit("_", 1)[0] in ("force", "base_force", "shaft_force", "applied_force") or quantity == "radial_force_integral":
         return "N" + per
     if quantity.rsplit("_", 1)[0] == "displacement":
         return "m"

@@ -38,7 +38,7 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
     let isa = state.parameters.isa;
-    let (reached, serial) = scatter_by_colour(order, |tile, overflow| {
+    let (mut reached, mut serial) = scatter_by_colour(order, |tile, overflow| {
         // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only to
         // nodes inside its zone, and zones of one colour are disjoint; the overflow pass runs
         // alone.
@@ -48,6 +48,12 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
             || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, overflow) },
         )
     });
+    if !particles.external_force.is_empty() {
+        let serial_start = std::time::Instant::now();
+        let loads = super::surface_load::add_surface_loads(&grid, particles, state.load_factor, &mut state.fields.force);
+        reached = reached.union(loads);
+        serial += serial_start.elapsed();
+    }
     state.scratch.grid_region = reached.union(previous);
     state.scratch.grid_reached = reached;
     state.timings.serial += serial.as_secs_f64();

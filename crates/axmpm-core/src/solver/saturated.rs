@@ -358,7 +358,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     });
     if water.loaded {
         let serial_start = std::time::Instant::now();
-        reached = reached.union(add_surface_loads(&grid, particles, &mut state.fields.force));
+        reached = reached.union(super::surface_load::add_surface_loads(&grid, particles, state.load_factor, &mut state.fields.force));
         serial += serial_start.elapsed();
     }
     if water.face_pressures.iter().any(Option::is_some) {
@@ -452,35 +452,6 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
         });
     }
     reach
-}
-
-/// Adds each loaded particle's surface load to the nodes at the point of the surface it
-/// carries, its upper edge (x_p, y_p + l_y F22): the bilinear weights of that point's cell, so
-/// that the load reaches the surface's nodes, as a traction does, and not the particle's
-/// centre (where the material above it would carry none of it). One thread, in array order.
-/// Returns the nodes it added to.
-fn add_surface_loads(grid: &GridGeometry, particles: &Particles, force: &mut [[f64; 2]]) -> NodeBox {
-    let mut reached = NodeBox::EMPTY;
-    for (p, load) in particles.external_force.iter().enumerate() {
-        if *load == [0.0; 2] {
-            continue;
-        }
-        let x = particles.position[p];
-        let point = [x[0], x[1] + particles.initial_half_width[p][1] * particles.deformation_gradient[p][3]];
-        let [i, j] = grid.cell_of(point);
-        let local = grid.local(point);
-        let (fx, fy) = ((local[0] - i as f64).clamp(0.0, 1.0), (local[1] - j as f64).clamp(0.0, 1.0));
-        for (di, dj, w) in [(0, 0, (1.0 - fx) * (1.0 - fy)), (1, 0, fx * (1.0 - fy)), (0, 1, (1.0 - fx) * fy), (1, 1, fx * fy)] {
-            if w > 0.0 {
-                let node = grid.node_index(i + di, j + dj);
-                force[node][0] += w * load[0];
-                force[node][1] += w * load[1];
-                let (c, r) = ((i + di) as u32, (j + dj) as u32);
-                reached = reached.union(NodeBox { columns: [c, c], rows: [r, r] });
-            }
-        }
-    }
-    reached
 }
 
 /// The boundary term of a face where the water outside stands at a prescribed pressure p̄:
