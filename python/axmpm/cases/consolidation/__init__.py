@@ -364,7 +364,7 @@ def plot(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
         from ...run.output import load_run
     except ImportError:  # pragma: no cover
         return False
-    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (a, b, c) = plt.subplots(1, 3, figsize=(15, 4))
     tv = np.linspace(1e-4, END_TIME_FACTOR, 400)
     a.plot(tv, [exact.degree(t) for t in tv], "k-", label="Terzaghi")
     z = np.linspace(0, 1, 200)
@@ -387,11 +387,35 @@ def plot(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
     b.set_xlabel("u/u₀")
     b.set_ylabel("z/H (depth below the drained top)")
     b.invert_yaxis()
+    _plot_mandel(c, results, base)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return True
+
+
+def _plot_mandel(ax: Any, results: list[dict[str, Any]], base: Path) -> None:
+    """The centre's pressure of the Mandel runs against the closed form."""
+    import numpy as np
+
+    from ...run.output import load_run
+    from . import mandel
+
+    material = mandel_material(MANDEL_CONDUCTIVITY)
+    t = np.linspace(1e-4, MANDEL_END_TIME_FACTOR, 400)
+    ax.plot(t, mandel.centre_pressure(t, material), "k-", label="Mandel (closed form)")
+    for r in results:
+        if r.get("kind") != "mandel" or r.get("status") != "completed":
+            continue
+        history = load_run(base / r["run_dir"]).history
+        tr = np.asarray(history["time"]) * material.consolidation_coefficient / MANDEL_HALF_WIDTH**2
+        ax.plot(tr, np.asarray(history["centre.pore_pressure"]) / r["p0"], "--", label=r["run"])
+    ax.axvline(MANDEL_FROM_TIME_FACTOR, color="0.7", lw=0.8)
+    ax.set_xlabel("c t / a²")
+    ax.set_ylabel("p(0, t) / p₀")
+    ax.set_ylim(0.0, 1.4)
+    ax.legend(fontsize=7)
 
 
 class Consolidation:
