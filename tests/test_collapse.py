@@ -343,7 +343,7 @@ def test_builder_gate_is_a_lifted_rigid_tube():
     assert tube.min == pytest.approx((0.03, 0.0)) and tube.max == pytest.approx((0.034, 0.064))
     # rising at 0.5 m/s until its top reaches the grid's (2 cells + half the column above it)
     room = s.grid.origin[1] + s.grid.extent[1] - tube.max[1]
-    assert room == pytest.approx(0.004 * (2 + 8))
+    assert room == pytest.approx(0.002 * (2 + 15))  # h = 2 mm, H_i = 30 cells
     assert [list(row) for row in tube.motion] == [[0.0, 0.0, 0.5], [pytest.approx(room / 0.5 - 1e-6), 0.0, 0.5],
                                                   [pytest.approx(room / 0.5), 0.0, 0.0]]
     assert tube.friction == pytest.approx(math.tan(math.radians(25.0)))  # default: the sand's
