@@ -37,7 +37,7 @@ from .bodies import GridFrame, Region
 from .fields import Section, Vec2
 from .regions import REGIONS, default_shape
 
-__all__ = ["RigidBody", "rigid_body_class", "rigid_body_errors", "RIGID_BODY_SHAPES"]
+__all__ = ["RigidBody", "rigid_body_class", "rigid_body_errors", "reserved_names", "RIGID_BODY_SHAPES"]
 
 Friction = Annotated[Any, Field(json_schema_extra={"anyOf": [{"type": "number", "minimum": 0},
                                                              {"const": "rough"}]})]
@@ -90,6 +90,12 @@ RigidBody: Any = (next(iter(RIGID_BODY_SHAPES.values())) if len(RIGID_BODY_SHAPE
 def _dotted(key: str) -> str:
     """The engine's key (``rigid_bodies[0].motion[2][0]``) as the front end's (``rigid_bodies.0.motion.2.0``)."""
     return re.sub(r"\[(\d+)\]", r".\1", key)
+
+
+def reserved_names(wall_count: int) -> list[str]:
+    """The names the grid faces, the axis and the ``wall_count`` walls report their reactions
+    under (the engine's list; a rigid body or a surcharge may not take one)."""
+    return list(core().reserved_names(wall_count))
 
 
 def rigid_body_errors(bodies: list[Any | None], grid: GridFrame | None, axisymmetric: bool | None,
