@@ -54,7 +54,13 @@ BAD_INPUT = [
     ("rigid_bodies.0.contact='glue'", "rigid_bodies.0.contact", "penalty"),
     ("rigid_bodies.0.contact='penalty'", "rigid_bodies.0.contact", "set experimental = true"),
     ("rigid_bodies.0.name='left'", "rigid_bodies.0.name", "grid face or wall"),
-    ("rigid_bodies.0.name='a.b'", "rigid_bodies.0.name", "pattern"),
+    ("rigid_bodies.0.name='a.b'", "rigid_bodies.0.name", "without dots"),
+    ("rigid_bodies.0.shape='circle'", "rigid_bodies.0.shape", "unknown shape 'circle'"),
+    ("rigid_bodies.0.min=[0, 0.6]", "rigid_bodies.0.min", "unknown key"),
+    ("rigid_bodies.0.adhesion=-1", "rigid_bodies.0.adhesion", "must be a finite number >= 0 Pa"),
+    ("rigid_bodies.0.adhesion_limit=0", "rigid_bodies.0.adhesion_limit", "must be a finite number > 0 Pa"),
+    ("rigid_bodies.0.motion=[[0, 0, 1e308], [1, 0, 1e308]]", "rigid_bodies.0.motion",
+     "carries the body out of the grid at t = "),
     ("materials.clay.cohesion=0", "materials.clay.friction_angle", "= 0 (Tresca) needs cohesion > 0"),
     ("materials.clay.dilation_angle=2", "materials.clay.dilation_angle", "<= friction_angle"),
 ]
@@ -84,6 +90,21 @@ def test_cli_check_exits_2_naming_the_key(tmp_path: Path, capsys: pytest.Capture
     path.write_text(tomli_w.dumps(data))
     assert main(["check", str(path), "--no-estimate"]) == 2
     assert "error: rigid_bodies.0.motion.1.0: times must increase" in capsys.readouterr().err
+
+
+def test_a_path_out_of_the_grid_exits_2_naming_the_key_and_the_time(tmp_path: Path,
+                                                                     capsys: pytest.CaptureFixture[str]) -> None:
+    import tomli_w
+
+    # The footing's top (0.7 m) reaches the grid's (0.8 m) after 10 ms of the ramp to 0.5 m/s
+    # up (2.5 mm) and 0.195 s more: t = 0.205 s, before end_time = 0.5 s.
+    data = apply_overrides(footing(end_time=0.5), ["rigid_bodies.0.motion=[[0, 0, 0], [0.01, 0, 0.5]]"])
+    path = tmp_path / "out.toml"
+    path.write_text(tomli_w.dumps(data))
+    assert main(["check", str(path), "--no-estimate"]) == 2
+    err = capsys.readouterr().err
+    assert "error: rigid_bodies.0.motion: the prescribed path carries the body out of the grid at t = 2.05" in err, err
+    assert "Traceback" not in err
 
 
 def test_no_particle_is_created_inside_a_rigid_body_and_polygon_bodies_fill_their_lattice() -> None:

@@ -377,10 +377,9 @@ pub struct Config {
     pub boundaries: BoundariesConfig,
     #[serde(default)]
     pub walls: Vec<WallConfig>,
-    /// Rigid bodies with a prescribed motion (`constraint/rigid_body.rs`): one table each,
-    /// `name`, the region keys (`shape`, ...), `velocity` or `motion`, `friction`.
+    /// Rigid bodies with a prescribed motion (`constraint/rigid_body.rs`).
     #[serde(default)]
-    pub rigid_bodies: Vec<serde_json::Map<String, serde_json::Value>>,
+    pub rigid_bodies: Vec<RigidBodyConfig>,
     /// Uniform pressures on free surfaces ([`SurchargeConfig`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub surcharges: Vec<SurchargeConfig>,
@@ -393,8 +392,9 @@ pub struct Config {
 }
 
 impl Config {
+    /// Reads the engine JSON; an error names the key where it arose (`rigid_bodies[0].friction: ...`).
     pub fn from_json(text: &str) -> Result<Self, String> {
-        let config: Config = serde_json::from_str(text).map_err(|e| format!("invalid engine configuration: {e}"))?;
+        let config: Config = from_json_named(text).map_err(|e| format!("invalid engine configuration: {e}"))?;
         config.validate()?;
         Ok(config)
     }
@@ -479,6 +479,132 @@ impl Config {
         }
         validate_saturated(self)?;
         Ok(())
+    }
+}
+
+/// Deserialises `text`; an error names the path of the value that failed (`a.b[2].c: ...`).
+pub fn from_json_named<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, String> {
+    let mut reader = serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(&mut reader).map_err(|e| named_error(e.path().to_string(), e.inner()))
+}
+
+/// Converts a JSON value; an error names the path as [`from_json_named`] does.
+pub fn from_value_named<T: serde::de::DeserializeOwned>(value: &serde_json::Value) -> Result<T, String> {
+    serde_path_to_error::deserialize(value).map_err(|e| named_error(e.path().to_string(), e.inner()))
+}
+
+/// Converts a JSON value; an error is (the path of the value that failed, "" at the top; the message).
+pub fn from_value_at<T: serde::de::DeserializeOwned>(value: &serde_json::Value) -> Result<T, (String, String)> {
+    serde_path_to_error::deserialize(value).map_err(|e| {
+        let path = e.path().to_string();
+        (if path == "." { String::new() } else { path }, e.inner().to_string())
+    })
+}
+
+fn named_error(path: String, inner: &serde_json::Error) -> String {
+    if path == "." {
+        inner.to_string()
+    } else {
+        format!("{path}: {inner}")
+    }
+}
+
+// --------------------------------------------------------------------------- rigid bodies
+
+/// The tangential law of a rigid body's contact (`friction`): Coulomb with coefficient μ ≥ 0
+/// (0: smooth), or `"rough"` (no slip while in contact).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "serde_json::Value", into = "serde_json::Value")]
+pub enum Friction {
+    Coulomb(f64),
+    Rough,
+}
+
+impl Default for Friction {
+    fn default() -> Self {
+        Self::Coulomb(0.0)
+    }
+}
+
+impl TryFrom<serde_json::Value> for Friction {
+    type Error = String;
+    fn try_from(value: serde_json::Value) -> Result<Self, String> {
+        match &value {
+            serde_json::Value::String(s) if s == "rough" => Ok(Self::Rough),
+            serde_json::Value::Number(n) if n.as_f64().is_some_and(|mu| mu >= 0.0 && mu.is_finite()) => {
+                Ok(Self::Coulomb(n.as_f64().unwrap_or(0.0)))
+            }
+            _ => Err(format!("must be a number >= 0 or \"rough\" (got {value})")),
+        }
+    }
+}
+
+impl From<Friction> for serde_json::Value {
+    fn from(f: Friction) -> Self {
+        match f {
+            Friction::Coulomb(mu) => mu.into(),
+            Friction::Rough => "rough".into(),
+        }
+    }
+}
+
+/// How a rigid body's contact is imposed (`contact`; `constraint/rigid_body.rs`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactKind {
+    /// Velocity correction at the grid nodes the body covers.
+    #[default]
+    Nodes,
+    /// Penalty pressure on the particles' domain corners inside the body (experimental).
+    Penalty,
+}
+
+/// One `[[rigid_bodies]]` table. The region's keys (`shape` and the shape's own) are read by
+/// [`crate::geometry::build`]; any other key is refused when the body is built
+/// (`constraint::RigidBody::from_config`), which also checks the ranges.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RigidBodyConfig {
+    /// Names the output columns (`NAME.force_x`).
+    pub name: String,
+    /// Constant velocity, m/s (or `motion`).
+    #[serde(default)]
+    pub velocity: Option<[f64; 2]>,
+    /// Velocity table rows [t, vx, vy] (s, m/s), linear between rows.
+    #[serde(default)]
+    pub motion: Option<Vec<[f64; 3]>>,
+    #[serde(default)]
+    pub friction: Friction,
+    #[serde(default)]
+    pub contact: ContactKind,
+    /// Allows the experimental options (`contact = "penalty"`).
+    #[serde(default)]
+    pub experimental: bool,
+    /// Adhesion a of the interface, Pa (≥ 0): its shear strength is min(μ σ_n + a, a_lim).
+    #[serde(default)]
+    pub adhesion: f64,
+    /// Largest shear stress of the interface a_lim, Pa (> 0; none: unlimited).
+    #[serde(default)]
+    pub adhesion_limit: Option<f64>,
+    /// `shape` and the shape's keys (rectangle: `min`, `max`; polygon: `vertices`).
+    #[serde(flatten)]
+    pub region: serde_json::Map<String, serde_json::Value>,
+}
+
+impl RigidBodyConfig {
+    /// A body of `region` (its keys, e.g. [`crate::geometry::rectangle::table`]) moving at a
+    /// constant `velocity`, smooth, nodal contact (for Rust callers).
+    pub fn new(name: &str, region: serde_json::Map<String, serde_json::Value>, velocity: [f64; 2]) -> Self {
+        Self {
+            name: name.into(),
+            velocity: Some(velocity),
+            motion: None,
+            friction: Friction::default(),
+            contact: ContactKind::default(),
+            experimental: false,
+            adhesion: 0.0,
+            adhesion_limit: None,
+            region,
+        }
     }
 }
 

@@ -205,7 +205,9 @@ pub fn rigid_bodies(config: &Config) -> Result<Vec<crate::constraint::RigidBody>
     let g = &config.grid;
     let upper = [g.origin[0] + g.extent[0], g.origin[1] + g.extent[1]];
     let axisymmetric = config.simulation.formulation == crate::config::FormulationKind::Axisymmetric;
-    crate::constraint::rigid_body::build_all(&config.rigid_bodies, g.origin, upper, axisymmetric)
+    let reserved = crate::constraint::rigid_body::reserved_names(config.walls.len());
+    let end_time = config.simulation.end_time;
+    crate::constraint::rigid_body::build_all(&config.rigid_bodies, g.origin, upper, axisymmetric, end_time, &reserved)
 }
 
 /// Gives the particles of the saturated bodies (`bodies[i]` made the particles `ranges[i]`)

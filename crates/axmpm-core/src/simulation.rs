@@ -550,12 +550,6 @@ impl Simulation {
             .collect()
     }
 
-    /// Names of the rigid bodies, in scenario order.
-    pub fn rigid_body_names(&self) -> Vec<String> {
-        use crate::constraint::Constraint;
-        self.state.constraints.rigid_bodies().map(|b| b.name().to_string()).collect()
-    }
-
     /// Displacement of each rigid body at the current time, m: the integral of its prescribed
     /// velocity (a function of time only).
     pub fn rigid_body_displacements(&self) -> Vec<(String, [f64; 2])> {

@@ -6,10 +6,10 @@ mod common;
 use axmpm_core::config::*;
 use axmpm_core::Simulation;
 use common::*;
-use serde_json::{json, Map, Value};
+use serde_json::{json, Value};
 
-fn table(v: Value) -> Map<String, Value> {
-    v.as_object().unwrap().clone()
+fn table(v: Value) -> RigidBodyConfig {
+    serde_json::from_value(v).unwrap()
 }
 
 fn momentum(sim: &Simulation) -> [f64; 2] {
@@ -188,6 +188,8 @@ fn a_rigid_body_pulled_away_leaves_the_material() {
         }
         {
             let mut cfg = block(formulation, shape, [0.0, 0.0], [0.0, 0.0]);
+            // The plate rises out of the grid after t = 0.765 s: the run ends before.
+            cfg.simulation.end_time = 0.4;
             cfg.rigid_bodies = vec![table(json!({"name": "plate", "shape": "rectangle", "min": [0.5, 1.2], "max": [1.1, 1.4],
                                                    "motion": [[0.0, 0.0, -0.5], [0.1, 0.0, -0.5], [0.12, 0.0, 1.0]],
                                                    "friction": "rough", "contact": contact, "experimental": contact == "penalty"}))];

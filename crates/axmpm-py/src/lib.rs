@@ -287,6 +287,33 @@ fn material_key_errors(name: &str, material_json: &str) -> PyResult<Vec<(String,
     Ok(material::status::key_errors(&material::Parameters::new(name, &config.parameters), &config.model))
 }
 
+/// rigid_body_errors(tables_json, grid_lower, grid_upper, axisymmetric, end_time, wall_count) -> [(key, message)]:
+/// the engine's refusals of the `rigid_bodies` tables (a JSON list; null: a table left out), at
+/// most one per body, keys as `rigid_bodies[0].motion[2][0]`, for the scenario front end
+/// (an infinite grid or `end_time`: not checked against).
+#[pyfunction]
+fn rigid_body_errors(
+    tables_json: &str,
+    grid_lower: [f64; 2],
+    grid_upper: [f64; 2],
+    axisymmetric: bool,
+    end_time: f64,
+    wall_count: usize,
+) -> PyResult<Vec<(String, String)>> {
+    use axmpm_core::constraint::rigid_body;
+    let tables: Vec<Option<serde_json::Value>> =
+        serde_json::from_str(tables_json).map_err(|e| PyValueError::new_err(format!("rigid_bodies: {e}")))?;
+    let reserved = rigid_body::reserved_names(wall_count);
+    Ok(rigid_body::errors(&tables, grid_lower, grid_upper, axisymmetric, end_time, &reserved))
+}
+
+/// reserved_names(wall_count) -> [name]: the names the grid faces, the axis and the walls
+/// report their reactions under (a rigid body may not take one).
+#[pyfunction]
+fn reserved_names(wall_count: usize) -> Vec<String> {
+    axmpm_core::constraint::rigid_body::reserved_names(wall_count)
+}
+
 /// catalogue() -> {"formulations", "interpolation_schemes", "material_models", "region_shapes"}:
 /// the names the engine accepts, each a list, from the engine's registries.
 #[pyfunction]
@@ -313,6 +340,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(catalogue, m)?)?;
     m.add_function(wrap_pyfunction!(instruction_set, m)?)?;
     m.add_function(wrap_pyfunction!(material_key_errors, m)?)?;
+    m.add_function(wrap_pyfunction!(rigid_body_errors, m)?)?;
+    m.add_function(wrap_pyfunction!(reserved_names, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

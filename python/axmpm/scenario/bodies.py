@@ -121,6 +121,10 @@ class Region(Section):
         """Problems of the region alone (``grid`` None: the grid is invalid), keys under ``key``."""
         raise NotImplementedError
 
+    def contains(self, points: Any) -> Any:
+        """Which points (N × 2 numpy array) lie inside the region (boundary included)."""
+        raise NotImplementedError
+
     def particle_count(self, cell_size: float) -> int:
         """Number of particles the engine creates for this body (``self.particles_per_cell`` per
         direction and cell)."""

@@ -11,10 +11,13 @@ from .boundaries import Boundaries, BoundaryCondition, Wall
 from .fields import did_you_mean
 from .materials import MATERIAL_MODELS, MaterialModel, engine_key_errors, model_names
 from .regions import REGION_SHAPES, shape_names
-from .rigid_bodies import RigidBody
+from .rigid_bodies import RIGID_BODY_SHAPES
 from .sections import Grid, Simulation
 
 __all__ = ["convert_errors", "dotted"]
+
+#: The sections whose tables are discriminated by their region's ``shape``: shape → class.
+_SHAPED: dict[str, dict[str, type[Any]]] = {"bodies": REGION_SHAPES, "rigid_bodies": RIGID_BODY_SHAPES}
 
 _SECTION_MODELS: dict[str, type[BaseModel]] = {
     "simulation": Simulation,
@@ -30,7 +33,8 @@ def _tagged(loc: tuple[Any, ...]) -> bool:
         return False
     if loc[0] == "materials":
         return str(loc[2]) in MATERIAL_MODELS
-    return loc[0] == "bodies" and len(REGION_SHAPES) > 1 and str(loc[2]) in REGION_SHAPES
+    shapes = _SHAPED.get(str(loc[0]))
+    return shapes is not None and len(shapes) > 1 and str(loc[2]) in shapes
 
 
 def _model_at(loc: tuple[Any, ...], root: type[BaseModel] | None) -> type[BaseModel] | None:
@@ -41,16 +45,15 @@ def _model_at(loc: tuple[Any, ...], root: type[BaseModel] | None) -> type[BaseMo
     section = loc[0]
     if section == "materials":
         return MATERIAL_MODELS.get(str(loc[2])) if len(loc) == 3 else None
-    if section == "bodies":
+    if section in _SHAPED:
+        shapes = _SHAPED[section]
         if len(loc) == 3 and _tagged(loc):
-            return REGION_SHAPES[str(loc[2])]
-        if len(loc) == 2 and len(REGION_SHAPES) == 1:
-            return next(iter(REGION_SHAPES.values()))
+            return shapes[str(loc[2])]
+        if len(loc) == 2 and len(shapes) == 1:
+            return next(iter(shapes.values()))
         return None
     if section == "walls":
         return Wall if len(loc) == 2 else None
-    if section == "rigid_bodies":
-        return RigidBody if len(loc) == 2 else None
     if section == "boundaries":
         return Boundaries if len(loc) == 1 else BoundaryCondition
     if len(loc) == 1:
@@ -100,8 +103,8 @@ def convert_errors(exc: ValidationError, root: type[BaseModel] | None = None) ->
                 owners = [n for n in model_names() if loc[-1] in MATERIAL_MODELS[n].model_fields]
                 if owners and "did you mean" not in msg:
                     msg += f" (only valid for model = {' or '.join(repr(o) for o in owners)})"
-            elif model is not None and loc and loc[0] == "bodies":
-                owners = [n for n in shape_names() if loc[-1] in REGION_SHAPES[n].model_fields]
+            elif model is not None and loc and loc[0] in _SHAPED:
+                owners = [n for n in shape_names() if loc[-1] in _SHAPED[loc[0]][n].model_fields]
                 if owners and "did you mean" not in msg:
                     msg += f" (only valid for shape = {' or '.join(repr(o) for o in owners)})"
         elif kind == "missing" and loc and isinstance(loc[-1], int):
@@ -114,7 +117,7 @@ def convert_errors(exc: ValidationError, root: type[BaseModel] | None = None) ->
             if isinstance(value, str):
                 choices = [c.strip(" '") for c in str(ctx.get("expected", "")).replace(" or ", ",").split(",")]
                 msg += did_you_mean(value, choices)
-        elif kind == "union_tag_invalid" and loc and loc[0] == "bodies":
+        elif kind == "union_tag_invalid" and loc and loc[0] in _SHAPED:
             loc = loc + ("shape",)
             msg = f"unknown shape {ctx.get('tag')!r}; expected one of {', '.join(repr(n) for n in shape_names())}"
             msg += did_you_mean(ctx.get("tag", ""), REGION_SHAPES)

@@ -26,7 +26,7 @@ from .files import apply_overrides, drop_none, inline_short_arrays, read_toml
 from .materials import engine_key_errors, material_type
 from .messages import convert_errors
 from .regions import body_type
-from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
+from .rigid_bodies import RigidBody, reserved_names, rigid_body_errors
 from .probes import Probe, probe_errors
 from .saturated import Drainage, drainage_errors, saturated_errors
 from .sections import Grid, Simulation
@@ -49,7 +49,7 @@ class Scenario(Section):
     bodies: list[Body]  # type: ignore[valid-type]
     boundaries: Boundaries = Field(default_factory=Boundaries)
     walls: list[Wall] = Field(default_factory=list)
-    rigid_bodies: list[RigidBody] = Field(default_factory=list)
+    rigid_bodies: list[RigidBody] = Field(default_factory=list)  # type: ignore[valid-type]
     drainage: Drainage = Field(default_factory=Drainage)
     surcharges: list[Surcharge] = Field(default_factory=list)
     probes: list[Probe] = Field(default_factory=list)
@@ -177,7 +177,7 @@ def cross_check_parts(
     bodies: list[Any] | None,
     boundaries: Boundaries | None,
     walls: list[Wall | None] | None,
-    rigid_bodies: list[RigidBody | None] | None = None,
+    rigid_bodies: list[Any | None] | None = None,
     surcharges: list[Surcharge | None] | None = None,
     probes: list[Probe | None] | None = None,
 ) -> list[tuple[str, str]]:
@@ -264,11 +264,11 @@ def cross_check_parts(
                                f"{fmt(lo[axis])}) (got {fmt(wall.position)})"))
 
     if rigid_bodies:
-        taken = set(FACE_NAMES) | {f"wall_{i}" for i in range(len(walls or []))}
         axisymmetric = None if sim is None else sim.formulation == "axisymmetric"
-        errors.extend(rigid_body_errors(rigid_bodies, frame, axisymmetric, taken))
+        end_time = None if sim is None else sim.end_time
+        errors.extend(rigid_body_errors(rigid_bodies, frame, axisymmetric, end_time, len(walls or [])))
     if surcharges:
-        taken = set(FACE_NAMES) | {f"wall_{i}" for i in range(len(walls or []))}
+        taken = set(reserved_names(len(walls or [])))
         taken |= {b.name for b in rigid_bodies or [] if b is not None and b.name is not None}
         errors.extend(surcharge_errors(surcharges, frame, taken))
     errors.extend(probe_errors(probes, grid if grid_ok else None))
@@ -290,7 +290,7 @@ _ADAPTERS: dict[str, TypeAdapter[Any]] = {}
 
 def _adapter(name: str) -> TypeAdapter[Any]:
     if name not in _ADAPTERS:
-        _ADAPTERS[name] = TypeAdapter({"material": Material, "body": Body}[name])
+        _ADAPTERS[name] = TypeAdapter({"material": Material, "body": Body, "rigid_body": RigidBody}[name])
     return _ADAPTERS[name]
 
 
@@ -310,7 +310,7 @@ def _partial_cross_check(data: dict[str, Any]) -> list[tuple[str, str]]:
     raw_walls = data.get("walls", [])
     walls = [_validate_part(Wall, w) for w in raw_walls] if isinstance(raw_walls, list) else None
     raw_rigid = data.get("rigid_bodies", [])
-    rigid = [_validate_part(RigidBody, b) for b in raw_rigid] if isinstance(raw_rigid, list) else None
+    rigid = [_validate_part(_adapter("rigid_body"), b) for b in raw_rigid] if isinstance(raw_rigid, list) else None
     raw_surcharges = data.get("surcharges", [])
     surcharges = ([_validate_part(Surcharge, c) for c in raw_surcharges] if isinstance(raw_surcharges, list)
                   else None)

@@ -40,7 +40,7 @@
 //! material side), so particle domains that reach past a wall (GIMP, CPDI) cannot drag
 //! material through it. In axisymmetry the axis r = 0 is always a roller (v_r = 0).
 
-use crate::config::{BoundariesConfig, Condition, WallConfig};
+use crate::config::{BoundariesConfig, Condition, Friction, WallConfig};
 use crate::grid::GridGeometry;
 
 pub mod axis;
@@ -119,6 +119,74 @@ pub trait Constraint: Send + Sync {
     }
 }
 
+impl Friction {
+    /// The largest tangential impulse (or force) the interface transmits with the normal one
+    /// `normal` ≥ 0: μ·normal for Coulomb, unlimited for `"rough"`.
+    #[inline(always)]
+    pub fn shear_limit(self, normal: f64) -> f64 {
+        match self {
+            Friction::Coulomb(mu) => mu * normal,
+            Friction::Rough => f64::INFINITY,
+        }
+    }
+}
+
+/// The tangential strength of a contact interface in velocity terms, for one node and step:
+/// the Coulomb part comes from the normal velocity the contact removes, `adhesion` and `cap`
+/// are the adhesion a and the limit a_lim times A Δt/m (A: the node's share of the interface,
+/// m: its mass; constraint/rigid_body.rs, "Adhesion").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interface {
+    pub friction: Friction,
+    /// a A Δt / m, m/s (0: none).
+    pub adhesion: f64,
+    /// a_lim A Δt / m, m/s (∞: none).
+    pub cap: f64,
+}
+
+impl Interface {
+    /// Coulomb friction alone (walls, a rigid body without adhesion).
+    #[inline(always)]
+    pub fn coulomb(friction: Friction) -> Self {
+        Self { friction, adhesion: 0.0, cap: f64::INFINITY }
+    }
+}
+
+/// The unilateral contact of a node with a rigid surface, Coulomb friction (Bardenhagen et al.
+/// 2001) plus adhesion: the corrected material velocity at a node moving with `v` against a
+/// surface moving with `w` whose outward unit normal (out of the obstacle, into the material)
+/// is `n`. With the relative velocity v − w split into v_n = (v − w)·n and v_t = (v − w)·τ,
+/// τ = (−n_y, n_x):
+/// - v_n < 0 (approaching): v_n is removed (the normal impulse per unit mass |v_n|), and v_t is
+///   reduced by the interface's strength min(μ|v_n| + adhesion, cap), never reversed:
+///   v_t ← sign(v_t) max(0, |v_t| − limit); `"rough"` removes v_t;
+/// - v_n ≥ 0 (separating or sliding along): the normal part is kept (the contact is
+///   unilateral) and the normal impulse is zero, so only the adhesion limits v_t; without
+///   adhesion the velocity is untouched.
+///
+/// A wall is this law with w = 0, n = ±e_axis and no adhesion ([`NodeCondition::correct`]); a
+/// rigid body passes its velocity, the normal of its nearest face and its adhesion.
+#[inline(always)]
+pub fn coulomb_contact(v: [f64; 2], w: [f64; 2], n: [f64; 2], interface: Interface) -> [f64; 2] {
+    let rel = [v[0] - w[0], v[1] - w[1]];
+    let vn = rel[0] * n[0] + rel[1] * n[1];
+    let approaching = vn < 0.0;
+    if !approaching && !(interface.adhesion > 0.0) {
+        return v;
+    }
+    let tangent = [-n[1], n[0]];
+    let vt = rel[0] * tangent[0] + rel[1] * tangent[1];
+    let friction = if approaching { interface.friction.shear_limit(-vn) } else { 0.0 };
+    let limit = (friction + interface.adhesion).min(interface.cap);
+    let reduced = (vt.abs() - limit).max(0.0).copysign(vt);
+    let mut out = [w[0] + reduced * tangent[0], w[1] + reduced * tangent[1]];
+    if !approaching {
+        out[0] += vn * n[0];
+        out[1] += vn * n[1];
+    }
+    out
+}
+
 /// The velocity condition of a straight face or wall at one node.
 #[derive(Clone, Copy, Debug)]
 pub struct NodeCondition {
@@ -142,19 +210,15 @@ impl NodeCondition {
     #[inline(always)]
     pub fn correct(&self, v: &mut [f64; 2]) {
         let a = self.axis as usize;
-        let t = 1 - a;
         match self.condition {
             Condition::Free => {}
             Condition::Roller => v[a] = 0.0,
             Condition::Fixed => *v = [0.0, 0.0],
             Condition::Friction => {
-                let vn = v[a] * self.outward;
-                if vn > 0.0 {
-                    v[a] = 0.0;
-                    let vt = v[t];
-                    let reduced = (vt.abs() - self.coefficient * vn).max(0.0);
-                    v[t] = reduced.copysign(vt);
-                }
+                // The wall's normal out of it, into the material: −outward along the axis.
+                let mut n = [0.0; 2];
+                n[a] = -self.outward;
+                *v = coulomb_contact(*v, [0.0; 2], n, Interface::coulomb(Friction::Coulomb(self.coefficient)));
             }
         }
     }
@@ -403,6 +467,79 @@ impl Constraints {
 mod tests {
     use super::*;
     use crate::config::{Axis, BoundaryCondition, Side};
+
+    const SMOOTH: Friction = Friction::Coulomb(0.0);
+
+    /// The law without adhesion.
+    fn law(v: [f64; 2], w: [f64; 2], n: [f64; 2], friction: Friction) -> [f64; 2] {
+        coulomb_contact(v, w, n, Interface::coulomb(friction))
+    }
+
+    #[test]
+    fn contact_law_by_hand() {
+        let down = [0.0, -1.0]; // base of a body: outward normal −y
+        let w = [0.0, -0.5]; // body moving down at 0.5 m/s
+        // Material at rest below the base: approaching at 0.5; smooth keeps the tangential part.
+        assert_eq!(law([0.3, 0.0], w, down, SMOOTH), [0.3, -0.5]);
+        // Coulomb μ = 0.4: tangential 0.3 reduced by 0.4 × 0.5 = 0.2 → 0.1.
+        let v = law([0.3, 0.0], w, down, Friction::Coulomb(0.4));
+        assert!((v[0] - 0.1).abs() < 1e-15 && v[1] == -0.5, "{v:?}");
+        // μ large enough: sticks, never reverses.
+        assert_eq!(law([0.3, 0.0], w, down, Friction::Coulomb(1.0)), [0.0, -0.5]);
+        assert_eq!(law([0.3, 0.0], w, down, Friction::Rough), [0.0, -0.5]);
+        // Separating (material moving down faster than the body): untouched, whatever the friction.
+        assert_eq!(law([0.3, -0.7], w, down, Friction::Rough), [0.3, -0.7]);
+        // Exactly matched normal velocity (sliding along): untouched.
+        assert_eq!(law([0.3, -0.5], w, down, Friction::Rough), [0.3, -0.5]);
+        // Oblique normal: the result never moves into the body, and the removed part is along n.
+        let s = 0.5f64.sqrt();
+        let n = [s, -s];
+        let v = law([-1.0, 0.2], [0.0, 0.0], n, SMOOTH);
+        assert!((v[0] * n[0] + v[1] * n[1]).abs() < 1e-15);
+        let d = [v[0] + 1.0, v[1] - 0.2];
+        assert!((d[0] * n[1] - d[1] * n[0]).abs() < 1e-15, "correction not along n");
+        // A body moving sideways (a pile pushed laterally in plane strain): its right face
+        // (outward normal +x) moving at 0.4 m/s meets material at rest, which is pushed along
+        // at the body's speed and keeps its own tangential velocity when smooth.
+        assert_eq!(law([0.0, 0.2], [0.4, 0.0], [1.0, 0.0], SMOOTH), [0.4, 0.2]);
+        // Material already moving away faster than the face: untouched.
+        assert_eq!(law([0.5, 0.2], [0.4, 0.0], [1.0, 0.0], Friction::Rough), [0.5, 0.2]);
+        // A wall is the law with w = 0 and n = ±e_axis: a right wall (outward +x, normal −x)
+        // stops a node moving into it and slows its tangential speed 0.5 by μ × 0.4 = 0.1.
+        let wall = NodeCondition { axis: 0, outward: 1.0, condition: Condition::Friction, coefficient: 0.25 };
+        let mut v = [0.4, -0.5];
+        wall.correct(&mut v);
+        assert_eq!(v, law([0.4, -0.5], [0.0, 0.0], [-1.0, 0.0], Friction::Coulomb(0.25)));
+        assert!(v[0] == 0.0 && (v[1] + 0.4).abs() < 1e-15, "{v:?}");
+    }
+
+    /// Adhesion by hand: a base (normal −y, tangent +x) moving down at 0.5 m/s over material
+    /// sliding at 0.3 m/s. Approaching: the normal part goes, the slip is reduced by
+    /// μ|v_n| + adhesion = 0.2 × 0.5 + 0.05 = 0.15, or by the cap 0.12 when smaller.
+    /// Separating (material moving down at 0.7): the normal part stays, and only the adhesion
+    /// holds the slip back (0.3 → 0.2), whatever the friction; without adhesion: untouched.
+    #[test]
+    fn adhesion_by_hand() {
+        let (down, w) = ([0.0, -1.0], [0.0, -0.5]);
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-15 && (a[1] - b[1]).abs() < 1e-15;
+        let glue = |adhesion: f64, cap: f64| Interface { friction: Friction::Coulomb(0.2), adhesion, cap };
+        let v = coulomb_contact([0.3, 0.0], w, down, glue(0.05, f64::INFINITY));
+        assert!(close(v, [0.15, -0.5]), "{v:?}");
+        let v = coulomb_contact([0.3, 0.0], w, down, glue(0.05, 0.12));
+        assert!(close(v, [0.18, -0.5]), "{v:?}");
+        // Enough adhesion: the node sticks, never reverses (the α-method with μ = 0).
+        let alpha = Interface { friction: Friction::Coulomb(0.0), adhesion: 1.0, cap: f64::INFINITY };
+        assert_eq!(coulomb_contact([0.3, 0.0], w, down, alpha), [0.0, -0.5]);
+        let v = coulomb_contact([0.3, -0.7], w, down, glue(0.1, f64::INFINITY));
+        assert!(close(v, [0.2, -0.7]), "{v:?}");
+        let rough = Interface { friction: Friction::Rough, adhesion: 0.1, cap: f64::INFINITY };
+        assert!(close(coulomb_contact([0.3, -0.7], w, down, rough), [0.2, -0.7]));
+        assert_eq!(coulomb_contact([0.3, -0.7], w, down, glue(0.0, f64::INFINITY)), [0.3, -0.7]);
+        // The same on a shaft (normal +x, tangent +y): material at rest beside a body rising
+        // at 1 m/s is dragged up by the adhesion alone.
+        let shaft = Interface { friction: Friction::Coulomb(0.0), adhesion: 0.0125, cap: f64::INFINITY };
+        assert!(close(coulomb_contact([0.0, 0.0], [0.0, 1.0], [1.0, 0.0], shaft), [0.0, 0.0125]));
+    }
 
     fn base(condition: Condition, mu: f64) -> NodeCondition {
         NodeCondition { axis: 1, outward: -1.0, condition, coefficient: mu }

@@ -1,5 +1,5 @@
-//! Rigid bodies with a prescribed motion in frictional contact with the material (issue #13;
-//! `docs/physics.md` §8).
+//! Rigid bodies with a prescribed motion in frictional, adhesive contact with the material
+//! (`docs/physics.md` §8).
 //!
 //! # Scenario
 //!
@@ -11,8 +11,15 @@
 //! max = [0.5, 3.2]
 //! velocity = [0.0, -0.01]        # m/s, or a table: motion = [[t, vx, vy], ...]
 //! friction = 0.0                 # Coulomb coefficient ≥ 0, or "rough" (no slip)
+//! adhesion = 0.0                 # Pa ≥ 0; adhesion_limit = a_lim (Pa > 0) optional ("Adhesion")
 //! contact = "nodes"              # or "penalty" ("Penalty contact" below)
 //! ```
+//!
+//! The table is [`crate::config::RigidBodyConfig`]; [`RigidBody::from_config`] checks every
+//! value, naming the key and the allowed range. The region is any shape of the region registry
+//! ([`crate::geometry::SHAPES`]), used for the contact as its polygon ([`Region::outline`]).
+//! The path is known in advance, so a body it carries out of the grid before the run's end is
+//! refused ([`Motion::first_exit`]).
 //!
 //! `motion` is a velocity table linear between its rows (times strictly increasing, from
 //! t ≥ 0), constant before the first and after the last row. The body's displacement is the exact
@@ -72,6 +79,47 @@
 //! cell: the load transmitted varies with the position of the surface between two rows of nodes.
 //! At a corner (outside, within the reach) the normal is the direction from the vertex.
 //!
+//! The Coulomb law at a node is [`super::coulomb_contact`], the one the grid faces and walls use
+//! (with w = 0 and their axis as the normal).
+//!
+//! # Adhesion (a Tresca interface)
+//!
+//! `adhesion` a and `adhesion_limit` a_lim give the interface the shear strength
+//! τ_max = min(μ σ_n + a, a_lim); with μ = 0 and a = α s_u it is the α-method of pile design
+//! (shaft resistance α s_u whatever the normal stress). At a covered node of mass m the
+//! correction removes the normal velocity |v_n| of an approaching node, a normal impulse
+//! J_n = m |v_n|; if the node stands for the interface area A, the mean normal traction over
+//! the step is σ_n = J_n/(A Δt), and the tangential impulse may be at most
+//! τ_max A Δt = min(μ J_n + a A Δt, a_lim A Δt). Per unit mass, the slip is reduced by at most
+//!
+//!   min(μ |v_n| + a A Δt/m, a_lim A Δt/m),
+//!
+//! the Coulomb term μ|v_n| of the law plus the adhesion as a velocity. The adhesion holds
+//! while the surfaces touch: at a covered node that does not approach (v_n ≥ 0: sliding along
+//! a pile shaft in weightless soil, or leaving) the normal velocity is kept and only a A Δt/m
+//! limits the slip (σ_n = 0: no friction). A is the node's share of the face: the face's
+//! length within half the node spacing along it, h/(2 max(|n_x|, |n_y|)), of the node's
+//! projection on it, clipped to the face's ends and to the grid's left edge (× ∫ r ds/length,
+//! the radius, per radian in axisymmetry). Where the material ends along the face (a free
+//! surface meeting a pile shaft) the last node's band stops at it: a half band is dropped
+//! when the next node along the face carries less than a quarter of the node's mass (per unit
+//! radius in axisymmetry). A node at the material's edge carries half the mass of a node
+//! inside, so its inner neighbour has twice its mass and the edge node half its neighbour's:
+//! a quarter separates the edge from the inside with a margin of two either way (the mass of
+//! a node varies by some per cent as particles move). With material on one side of the node
+//! only, its mass and its share of the face are both halved, so it slips as the others do.
+//! Counting the whole band made a pile's shaft resistance h/L too high (L the length in
+//! contact); dropping it only at a node without mass did the same once the soil dragged up
+//! along the shaft gave the next node a little mass, and a threshold of a half dropped the
+//! band of the node next to the edge whenever the edge node held slightly less than half. The node that stands for a face is the one in the band −(h − l_p) < d ≤ l_p of
+//! signed distance d, one node per grid line across an axis-aligned face (nodes deeper inside
+//! carry no adhesion, so a face between two nodes is not counted twice).
+//!
+//! With the penalty contact the adhesion acts per particle: its tangential force is at most
+//! min(μ N + a A_p, a_lim A_p), A_p the tributary area of its corners inside the body; it
+//! needs a corner inside the body (a gap), so it holds only where the normal pressure presses
+//! the particles onto the body.
+//!
 //! # Penalty contact (`contact = "penalty"`)
 //!
 //! The alternative to the nodal correction imposes the contact where the surfaces are, not at
@@ -109,44 +157,11 @@
 //! With the penalty contact the impulse is minus the contact forces applied to the nodes × Δt,
 //! split by each particle's mean normal; the material's momentum changes by exactly that.
 
-use super::{Constraint, NodalContext};
+use super::{coulomb_contact, Constraint, Interface, NodalContext};
+pub use crate::config::Friction;
+use crate::config::{ContactKind, RigidBodyConfig};
 use crate::geometry::{self, Polygon, Region};
 use serde_json::{Map, Value};
-
-/// Contact condition between a rigid body and the material.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Friction {
-    /// Coulomb friction coefficient μ ≥ 0 (0: smooth).
-    Coulomb(f64),
-    /// No slip while in contact.
-    Rough,
-}
-
-/// Material velocity `v` at a node in contact with a body moving at `w` whose outward unit normal
-/// there is `n` (module doc, "Contact").
-#[inline]
-pub fn contact_velocity(v: [f64; 2], w: [f64; 2], n: [f64; 2], friction: Friction) -> [f64; 2] {
-    let rel = [v[0] - w[0], v[1] - w[1]];
-    let vn = rel[0] * n[0] + rel[1] * n[1];
-    if !(vn < 0.0) {
-        return v;
-    }
-    let t = [rel[0] - vn * n[0], rel[1] - vn * n[1]];
-    let t_new = match friction {
-        Friction::Rough => [0.0, 0.0],
-        Friction::Coulomb(mu) => {
-            let magnitude = t[0].hypot(t[1]);
-            let reduced = magnitude + mu * vn; // vn < 0: |t| − μ|v_n|
-            if reduced > 0.0 && magnitude > 0.0 {
-                let s = reduced / magnitude;
-                [s * t[0], s * t[1]]
-            } else {
-                [0.0, 0.0]
-            }
-        }
-    };
-    [w[0] + t_new[0], w[1] + t_new[1]]
-}
 
 /// Why `contact = "penalty"` needs `experimental = true` (the same words in the front end).
 pub const PENALTY_IS_EXPERIMENTAL: &str = "\"penalty\" is experimental (measured, not adopted: the footing's N_c comes out \
@@ -234,15 +249,56 @@ impl Motion {
         }
     }
 
+    /// The first time in [0, `end`] at which a box `lo..hi` moved by D(t) leaves the box
+    /// `lower..upper`, if it does (to a relative 10⁻¹², found by bisection: each component of
+    /// D is monotone between the table's times and the zeros of its velocity).
+    pub fn first_exit(&self, lo: [f64; 2], hi: [f64; 2], lower: [f64; 2], upper: [f64; 2], end: f64) -> Option<f64> {
+        let out = |t: f64| {
+            let d = self.displacement(t);
+            (0..2).any(|c| !(lo[c] + d[c] >= lower[c] && hi[c] + d[c] <= upper[c]))
+        };
+        let mut knots: Vec<f64> = std::iter::once(0.0).chain(self.times.iter().copied().filter(|&t| t > 0.0 && t < end)).collect();
+        knots.push(end);
+        let mut previous = 0.0;
+        if out(previous) {
+            return Some(0.0);
+        }
+        for piece in knots.windows(2) {
+            let (a, b) = (piece[0], piece[1]);
+            let (va, vb) = (self.velocity(a), self.velocity(b));
+            let mut candidates: Vec<f64> = (0..2)
+                .filter(|&c| (va[c] > 0.0) != (vb[c] > 0.0) && va[c] != vb[c])
+                .map(|c| a + (b - a) * va[c] / (va[c] - vb[c]))
+                .filter(|&t| t > a && t < b)
+                .collect();
+            candidates.sort_by(f64::total_cmp);
+            candidates.push(b);
+            for t in candidates {
+                if out(t) {
+                    let (mut inside, mut outside) = (previous, t);
+                    while outside - inside > 1e-12 * outside.max(1e-300) {
+                        let mid = 0.5 * (inside + outside);
+                        if mid <= inside || mid >= outside {
+                            break;
+                        }
+                        if out(mid) {
+                            outside = mid;
+                        } else {
+                            inside = mid;
+                        }
+                    }
+                    return Some(outside);
+                }
+                previous = t;
+            }
+        }
+        None
+    }
+
     /// Mean velocity over [t, t + dt]: (D(t + dt) − D(t))/dt.
     pub fn mean_velocity(&self, t: f64, dt: f64) -> [f64; 2] {
         let (a, b) = (self.displacement(t), self.displacement(t + dt));
         [(b[0] - a[0]) / dt, (b[1] - a[1]) / dt]
-    }
-
-    /// The velocities of the table (for the axisymmetric check).
-    pub fn velocities(&self) -> &[[f64; 2]] {
-        &self.velocities
     }
 }
 
@@ -257,6 +313,9 @@ pub struct RigidBody {
     contact: Polygon,
     motion: Motion,
     friction: Friction,
+    /// Adhesion a and the interface's shear limit a_lim, Pa (module doc, "Adhesion").
+    adhesion: f64,
+    adhesion_limit: f64,
     enforcement: Enforcement,
     /// Distance outside the body within which a node still counts as covered (module doc).
     reach: f64,
@@ -289,6 +348,8 @@ impl RigidBody {
             contact,
             motion,
             friction,
+            adhesion: 0.0,
+            adhesion_limit: f64::INFINITY,
             enforcement: Enforcement::Nodes,
             reach: 0.0,
 
@@ -354,10 +415,12 @@ impl RigidBody {
             let mut corner_force = [[0.0; 2]; 4];
             let mut normal_force = [0.0; 2];
             let mut total_magnitude = 0.0;
+            let mut contact_area = 0.0;
             for (k, &q) in corners.iter().enumerate() {
                 let (d, n) = geometry::Region::signed_distance(&self.contact, [q[0] - offset[0], q[1] - offset[1]]);
                 if d < 0.0 {
                     let area = if axisymmetric { side * q[0].max(0.0) } else { side };
+                    contact_area += area;
                     let magnitude = -stiffness * d * area;
                     corner_force[k] = [magnitude * n[0], magnitude * n[1]];
                     normal_force[0] += corner_force[k][0];
@@ -377,10 +440,12 @@ impl RigidBody {
             let slip = t[0].hypot(t[1]);
             // Tangential force: the one that stops the particle's slip in this step, at most μ N.
             let stick = particles.mass[p] * slip / dt;
-            let limit = match self.friction {
-                Friction::Rough => stick,
-                Friction::Coulomb(mu) => stick.min(mu * fn_size),
-            };
+            // The interface's strength over the corners' area: min(μ N + a A, a_lim A).
+            let mut strength = self.friction.shear_limit(fn_size) + self.adhesion * contact_area;
+            if self.adhesion_limit.is_finite() {
+                strength = strength.min(self.adhesion_limit * contact_area);
+            }
+            let limit = stick.min(strength);
             let tangential = if slip > 0.0 && limit > 0.0 { [-limit * t[0] / slip, -limit * t[1] / slip] } else { [0.0; 2] };
             let mut total = [0.0; 2];
             for (k, &q) in corners.iter().enumerate() {
@@ -471,6 +536,42 @@ impl Constraint for RigidBody {
                 first as usize..last as usize + 1
             }
         };
+        // The interface at a node (module doc, "Adhesion"): Coulomb alone, or with the
+        // adhesion and limit of the node's share A of the face, in velocity terms (× Δt/m).
+        let adhesive = self.adhesion > 0.0 || self.adhesion_limit.is_finite();
+        let (contact, friction, adhesion, adhesion_limit) = (&self.contact, self.friction, self.adhesion, self.adhesion_limit);
+        let (dt, axisymmetric, reach_inside) = (context.dt, context.axisymmetric, h - self.reach);
+        let mass = context.mass;
+        let interface = |normal: [f64; 2], local: [f64; 2], distance: f64, m: f64, (i, j): (usize, usize)| {
+            if !adhesive || distance <= -reach_inside {
+                return Interface::coulomb(friction);
+            }
+            // One node per grid line crosses the face: the band between two nodes along it,
+            // each half kept only if the next node along the face (on the grid line closest to
+            // the face's direction) carries at least a quarter of this node's mass (per unit
+            // radius in axisymmetry; module doc, "Adhesion").
+            let half = 0.5 * h / normal[0].abs().max(normal[1].abs());
+            let along = [-normal[1], normal[0]];
+            let d = usize::from(along[1].abs() >= along[0].abs());
+            let radius = |node: usize| grid.node_position(node)[0];
+            let own = grid.node_index(i, j);
+            let carries = |step: isize| {
+                let mut ij = [i as isize, j as isize];
+                ij[d] += step;
+                if !(0..2).all(|c| ij[c] >= 0 && (ij[c] as usize) < grid.nodes[c]) {
+                    return false;
+                }
+                let next = grid.node_index(ij[0] as usize, ij[1] as usize);
+                let scale = if axisymmetric && radius(own) > 0.0 { radius(next) / radius(own) } else { 1.0 };
+                mass[next] >= 0.25 * m * scale
+            };
+            let forward = if along[d] > 0.0 { 1 } else { -1 };
+            let band = [if carries(-forward) { half } else { 0.0 }, if carries(forward) { half } else { 0.0 }];
+            let (length, moment) = contact.face_band(local, normal, band, grid.origin[0] - offset[0]);
+            let area = if axisymmetric { moment + length * offset[0] } else { length };
+            let per_mass = area * dt / m;
+            Interface { friction, adhesion: adhesion * per_mass, cap: adhesion_limit * per_mass }
+        };
         let columns = range(0);
         for j in range(1) {
             for i in columns.clone() {
@@ -493,10 +594,10 @@ impl Constraint for RigidBody {
                 // Each face in turn (the nearest, then at a corner the other); the momentum each
                 // removes goes to the base or the shaft part by that face's normal.
                 let before = velocity[node];
-                let mut after = contact_velocity(before, w, normal, self.friction);
+                let mut after = coulomb_contact(before, w, normal, interface(normal, local, distance, m, (i, j)));
                 let mut steps = [(normal, before, after), (normal, after, after)];
                 if let Some(n2) = second {
-                    let next = contact_velocity(after, w, n2, self.friction);
+                    let next = coulomb_contact(after, w, n2, interface(n2, local, distance, m, (i, j)));
                     steps[1] = (n2, after, next);
                     after = next;
                 }
@@ -584,142 +685,205 @@ fn add_at_point(
     true
 }
 
-/// Reads a number.
-fn number(key: &str, v: &Value) -> Result<f64, String> {
-    v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| format!("{key}: must be a finite number (got {v})"))
+/// The names of the other constraints whose reactions share the history (grid faces, the
+/// axis, `wall_i` for `walls[i]`): a rigid body may not take one.
+pub fn reserved_names(wall_count: usize) -> Vec<String> {
+    let faces = ["left", "right", "bottom", "top", "axis"].map(String::from);
+    faces.into_iter().chain((0..wall_count).map(|i| format!("wall_{i}"))).collect()
 }
 
-/// Builds the rigid bodies of a scenario from its `rigid_bodies` tables.
+/// Builds the rigid bodies of a scenario (errors name `rigid_bodies[i].key`): each by
+/// [`RigidBody::from_config`], names unique and not in `reserved` ([`reserved_names`]).
 /// `grid_lower`, `grid_upper`: the grid's corners (a body must lie inside the grid).
 pub fn build_all(
-    tables: &[Map<String, Value>],
+    configs: &[RigidBodyConfig],
     grid_lower: [f64; 2],
     grid_upper: [f64; 2],
     axisymmetric: bool,
+    end_time: f64,
+    reserved: &[String],
 ) -> Result<Vec<RigidBody>, String> {
-    let mut bodies: Vec<RigidBody> = Vec::with_capacity(tables.len());
-    for (i, table) in tables.iter().enumerate() {
-        let context = format!("rigid_bodies[{i}]");
-        let body = build_one(&context, table, grid_lower, grid_upper, axisymmetric)?;
-        if bodies.iter().any(|b| b.name == body.name) {
-            return Err(format!("{context}.name: '{}' is used by another rigid body", body.name));
-        }
+    let mut bodies: Vec<RigidBody> = Vec::with_capacity(configs.len());
+    for (i, config) in configs.iter().enumerate() {
+        let body = RigidBody::from_config(i, config, grid_lower, grid_upper, axisymmetric, end_time)?;
+        check_name(i, &body.name, bodies.iter().map(|b| b.name.as_str()), reserved)?;
         bodies.push(body);
     }
     Ok(bodies)
 }
 
-fn build_one(
-    context: &str,
-    table: &Map<String, Value>,
+/// `rigid_bodies[index].name` is not one of the `earlier` bodies' nor `reserved`.
+pub fn check_name<'a>(
+    index: usize,
+    name: &str,
+    mut earlier: impl Iterator<Item = &'a str>,
+    reserved: &[String],
+) -> Result<(), String> {
+    if earlier.any(|n| n == name) {
+        return Err(format!("rigid_bodies[{index}].name: '{name}' is used by another rigid body"));
+    }
+    if reserved.iter().any(|n| n == name) {
+        return Err(format!(
+            "rigid_bodies[{index}].name: '{name}' is the name of a grid face or wall (its reaction columns would clash): choose another"
+        ));
+    }
+    Ok(())
+}
+
+/// Every problem of the `rigid_bodies` tables (`None`: a table the caller left out), at most
+/// one per body, as (key, message) with the key in the engine's form
+/// (`rigid_bodies[0].motion[2][0]`): for a front end, which reports them next to its own.
+pub fn errors(
+    tables: &[Option<Value>],
     grid_lower: [f64; 2],
     grid_upper: [f64; 2],
     axisymmetric: bool,
-) -> Result<RigidBody, String> {
-    // Keys given as null (the front end writes every key of its schema) count as absent.
-    let table: Map<String, Value> = table.iter().filter(|(_, v)| !v.is_null()).map(|(k, v)| (k.clone(), v.clone())).collect();
-    let table = &table;
-    let name = match table.get("name") {
-        Some(Value::String(s)) if !s.is_empty() && !s.contains(['.', ',']) && !s.contains(char::is_whitespace) => {
-            s.clone()
-        }
-        Some(v) => {
-            return Err(format!(
-                "{context}.name: must be a non-empty string without dots, commas or spaces (it names output columns; got {v})"
-            ))
-        }
-        None => return Err(format!("{context}.name: is required")),
-    };
-    let region = geometry::build(context, table)?;
-    let (lo, hi) = region.bounding_box();
-    let polygon = match table.get("shape").and_then(Value::as_str) {
-        Some("polygon") => geometry::polygon::from_table(context, table)?,
-        Some("rectangle") => Polygon::new(vec![lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]])
-            .map_err(|e| format!("{context}: {e}"))?,
-        other => return Err(format!("{context}.shape: a rigid body is a rectangle or a polygon (got {other:?})")),
-    };
-    let contact = polygon.mirrored_about(grid_lower[0]).unwrap_or(polygon);
-    let span = (grid_upper[0] - grid_lower[0]).max(grid_upper[1] - grid_lower[1]);
-    let tol = 1e-9 * span;
-    if lo[0] < grid_lower[0] - tol || lo[1] < grid_lower[1] - tol || hi[0] > grid_upper[0] + tol || hi[1] > grid_upper[1] + tol
-    {
-        return Err(format!(
-            "{context}: the rigid body ({lo:?} .. {hi:?}) must lie inside the grid ({grid_lower:?} .. {grid_upper:?})"
-        ));
-    }
-    let motion = match (table.get("velocity"), table.get("motion")) {
-        (Some(_), Some(_)) => return Err(format!("{context}: give either velocity or motion, not both")),
-        (None, None) => return Err(format!("{context}.velocity: is required (or a motion table)")),
-        (Some(v), None) => {
-            let key = format!("{context}.velocity");
-            let pair = v.as_array().filter(|a| a.len() == 2).ok_or_else(|| format!("{key}: must be [vx, vy] (got {v})"))?;
-            let velocity = [number(&format!("{key}[0]"), &pair[0])?, number(&format!("{key}[1]"), &pair[1])?];
-            if axisymmetric && velocity[0] != 0.0 {
-                return Err(format!(
-                    "{key}[0]: must be 0 in axisymmetric runs (only axial motion of a body of revolution; got {})",
-                    velocity[0]
-                ));
+    end_time: f64,
+    reserved: &[String],
+) -> Vec<(String, String)> {
+    let mut found = Vec::new();
+    let mut names: Vec<String> = Vec::new();
+    for (i, table) in tables.iter().enumerate() {
+        let Some(table) = table else { continue };
+        let config = match crate::config::from_value_at::<RigidBodyConfig>(table) {
+            Ok(config) => config,
+            Err((path, message)) => {
+                let dot = if path.is_empty() || path.starts_with('[') { "" } else { "." };
+                found.push((format!("rigid_bodies[{i}]{dot}{path}"), message));
+                continue;
             }
-            Motion::constant(velocity)
+        };
+        let checked = RigidBody::from_config(i, &config, grid_lower, grid_upper, axisymmetric, end_time)
+            .and_then(|_| check_name(i, &config.name, names.iter().map(String::as_str), reserved));
+        names.push(config.name);
+        if let Err(e) = checked {
+            // The engine's errors read "KEY: message" (keys have no ": ").
+            let (key, message) = e.split_once(": ").unwrap_or((e.as_str(), ""));
+            found.push((key.to_string(), message.to_string()));
         }
-        (None, Some(m)) => {
-            let key = format!("{context}.motion");
-            let rows = m.as_array().filter(|a| !a.is_empty()).ok_or_else(|| {
-                format!("{key}: must be a non-empty list of rows [t, vx, vy] (got {m})")
-            })?;
-            let mut table_rows: Vec<[f64; 3]> = Vec::with_capacity(rows.len());
-            for (k, row) in rows.iter().enumerate() {
-                let rk = format!("{key}[{k}]");
-                let r = row.as_array().filter(|a| a.len() == 3).ok_or_else(|| format!("{rk}: must be [t, vx, vy] (got {row})"))?;
-                let values = [number(&format!("{rk}[0]"), &r[0])?, number(&format!("{rk}[1]"), &r[1])?, number(&format!("{rk}[2]"), &r[2])?];
-                if k == 0 && values[0] < 0.0 {
-                    return Err(format!("{rk}[0]: the first time must be >= 0 (got {})", values[0]));
+    }
+    found
+}
+
+impl RigidBody {
+    /// The body of `rigid_bodies[index]`, every value range-checked (errors name the key and
+    /// the allowed range); its path must keep it inside the grid until `end_time` (not
+    /// checked when it is not finite).
+    pub fn from_config(
+        index: usize,
+        config: &RigidBodyConfig,
+        grid_lower: [f64; 2],
+        grid_upper: [f64; 2],
+        axisymmetric: bool,
+        end_time: f64,
+    ) -> Result<Self, String> {
+        let context = format!("rigid_bodies[{index}]");
+        let name = &config.name;
+        if name.is_empty() || name.contains(['.', ',']) || name.contains(char::is_whitespace) {
+            return Err(format!(
+                "{context}.name: must be a non-empty string without dots, commas or spaces (it names output columns; got {name:?})"
+            ));
+        }
+        // Keys given as null (a front end may write every key of its schema) count as absent.
+        let table: Map<String, Value> =
+            config.region.iter().filter(|(_, v)| !v.is_null()).map(|(k, v)| (k.clone(), v.clone())).collect();
+        let region = geometry::build(&context, &table)?;
+        let region_keys = geometry::region_keys(&table);
+        if let Some(key) = table.keys().find(|k| !region_keys.contains(&k.as_str())) {
+            return Err(format!(
+                "{context}.{key}: unknown key (a rigid body has name, velocity or motion, friction, contact, experimental \
+                 and its region's keys: {})",
+                region_keys.join(", ")
+            ));
+        }
+        let (lo, hi) = region.bounding_box();
+        let polygon = region.outline();
+        let contact = polygon.mirrored_about(grid_lower[0]).unwrap_or(polygon);
+        let span = (grid_upper[0] - grid_lower[0]).max(grid_upper[1] - grid_lower[1]);
+        let tol = 1e-9 * span;
+        if lo[0] < grid_lower[0] - tol
+            || lo[1] < grid_lower[1] - tol
+            || hi[0] > grid_upper[0] + tol
+            || hi[1] > grid_upper[1] + tol
+        {
+            return Err(format!(
+                "{context}: the rigid body ({lo:?} .. {hi:?}) must lie inside the grid ({grid_lower:?} .. {grid_upper:?})"
+            ));
+        }
+        let axial_only = "must be 0 in axisymmetric runs (only axial motion of a body of revolution";
+        let motion = match (&config.velocity, &config.motion) {
+            (Some(_), Some(_)) => return Err(format!("{context}.motion: give either velocity or motion, not both")),
+            (None, None) => return Err(format!("{context}.velocity: is required (or a motion table)")),
+            (Some(velocity), None) => {
+                if velocity.iter().any(|v| !v.is_finite()) {
+                    return Err(format!("{context}.velocity: must be finite (got {velocity:?})"));
                 }
-                if let Some(prev) = table_rows.last() {
-                    if !(values[0] > prev[0]) {
-                        return Err(format!(
-                            "{rk}[0]: times must increase strictly (got {} after {})",
-                            values[0], prev[0]
-                        ));
+                if axisymmetric && velocity[0] != 0.0 {
+                    return Err(format!("{context}.velocity[0]: {axial_only}; got {})", velocity[0]));
+                }
+                Motion::constant(*velocity)
+            }
+            (None, Some(rows)) => {
+                let key = format!("{context}.motion");
+                if rows.is_empty() {
+                    return Err(format!("{key}: must be a non-empty list of rows [t, vx, vy]"));
+                }
+                for (k, row) in rows.iter().enumerate() {
+                    let rk = format!("{key}[{k}]");
+                    if row.iter().any(|v| !v.is_finite()) {
+                        return Err(format!("{rk}: must be finite (got {row:?})"));
+                    }
+                    if k == 0 && row[0] < 0.0 {
+                        return Err(format!("{rk}[0]: the first time must be >= 0 (got {})", row[0]));
+                    }
+                    if k > 0 && !(row[0] > rows[k - 1][0]) {
+                        return Err(format!("{rk}[0]: times must increase strictly (got {} after {})", row[0], rows[k - 1][0]));
+                    }
+                    if axisymmetric && row[1] != 0.0 {
+                        return Err(format!("{rk}[1]: vx {axial_only}; got {})", row[1]));
                     }
                 }
-                if axisymmetric && values[1] != 0.0 {
-                    return Err(format!(
-                        "{rk}[1]: vx must be 0 in axisymmetric runs (only axial motion of a body of revolution; got {})",
-                        values[1]
-                    ));
-                }
-                table_rows.push(values);
+                Motion::table(rows)
             }
-            Motion::table(&table_rows)
+        };
+        let enforcement = match config.contact {
+            ContactKind::Nodes => Enforcement::Nodes,
+            // The stiffness follows from the material and the grid (the solver sets it).
+            ContactKind::Penalty => Enforcement::Penalty(0.0),
+        };
+        // The penalty contact was measured and not adopted (its footing N_c is 8–20 % high,
+        // docs/studies/contact-remedies.md): it is run only when asked for explicitly.
+        if config.contact == ContactKind::Penalty && !config.experimental {
+            return Err(format!("{context}.contact: {PENALTY_IS_EXPERIMENTAL}"));
         }
-    };
-    let friction = match table.get("friction") {
-        None => Friction::Coulomb(0.0),
-        Some(Value::String(s)) if s == "rough" => Friction::Rough,
-        Some(v) => match v.as_f64() {
-            Some(mu) if mu >= 0.0 && mu.is_finite() => Friction::Coulomb(mu),
-            _ => return Err(format!("{context}.friction: must be a number >= 0 or \"rough\" (got {v})")),
-        },
-    };
-    let enforcement = match table.get("contact") {
-        None => Enforcement::Nodes,
-        Some(Value::String(s)) if s == "nodes" => Enforcement::Nodes,
-        // The stiffness follows from the material and the grid (the solver sets it).
-        Some(Value::String(s)) if s == "penalty" => Enforcement::Penalty(0.0),
-        Some(v) => return Err(format!("{context}.contact: must be \"nodes\" or \"penalty\" (got {v})")),
-    };
-    // The penalty contact was measured and not adopted (its footing N_c is 8–20 % high,
-    // docs/studies/contact-remedies.md): it is run only when asked for explicitly.
-    if matches!(enforcement, Enforcement::Penalty(_)) && table.get("experimental").and_then(Value::as_bool) != Some(true) {
-        return Err(format!("{context}.contact: {PENALTY_IS_EXPERIMENTAL}"));
+        if axisymmetric && lo[0] < -tol {
+            return Err(format!("{context}: an axisymmetric rigid body must lie at r >= 0 (its region reaches r = {})", lo[0]));
+        }
+        // The path is known in advance: it must keep the body inside the grid until the end.
+        if end_time.is_finite() {
+            let slack = |c: [f64; 2], s: f64| [c[0] + s * tol, c[1] + s * tol];
+            if let Some(t) = motion.first_exit(lo, hi, slack(grid_lower, -1.0), slack(grid_upper, 1.0), end_time) {
+                let key = if config.velocity.is_some() { "velocity" } else { "motion" };
+                return Err(format!(
+                    "{context}.{key}: the prescribed path carries the body out of the grid at t = {t:.6e} s, \
+                     before simulation.end_time = {end_time} s (the body must stay inside the grid)"
+                ));
+            }
+        }
+        if !(config.adhesion >= 0.0 && config.adhesion.is_finite()) {
+            return Err(format!("{context}.adhesion: must be a finite number >= 0 Pa (got {})", config.adhesion));
+        }
+        if let Some(limit) = config.adhesion_limit {
+            if !(limit > 0.0 && limit.is_finite()) {
+                return Err(format!("{context}.adhesion_limit: must be a finite number > 0 Pa (got {limit})"));
+            }
+        }
+        let mut body = RigidBody::new(name.clone(), region, contact, motion, config.friction);
+        body.enforcement = enforcement;
+        body.adhesion = config.adhesion;
+        body.adhesion_limit = config.adhesion_limit.unwrap_or(f64::INFINITY);
+        Ok(body)
     }
-    if axisymmetric && lo[0] < -tol {
-        return Err(format!("{context}: an axisymmetric rigid body must lie at r >= 0 (its region reaches r = {})", lo[0]));
-    }
-    let mut body = RigidBody::new(name, region, contact, motion, friction);
-    body.enforcement = enforcement;
-    Ok(body)
 }
 
 #[cfg(test)]
@@ -727,39 +891,6 @@ mod tests {
     use super::*;
     use crate::grid::GridGeometry;
     use serde_json::json;
-
-    const SMOOTH: Friction = Friction::Coulomb(0.0);
-
-    #[test]
-    fn contact_law_by_hand() {
-        let down = [0.0, -1.0]; // base of a body: outward normal −y
-        let w = [0.0, -0.5]; // body moving down at 0.5 m/s
-        // Material at rest below the base: approaching at 0.5; smooth keeps the tangential part.
-        assert_eq!(contact_velocity([0.3, 0.0], w, down, SMOOTH), [0.3, -0.5]);
-        // Coulomb μ = 0.4: tangential 0.3 reduced by 0.4 × 0.5 = 0.2 → 0.1.
-        let v = contact_velocity([0.3, 0.0], w, down, Friction::Coulomb(0.4));
-        assert!((v[0] - 0.1).abs() < 1e-15 && v[1] == -0.5, "{v:?}");
-        // μ large enough: sticks, never reverses.
-        assert_eq!(contact_velocity([0.3, 0.0], w, down, Friction::Coulomb(1.0)), [0.0, -0.5]);
-        assert_eq!(contact_velocity([0.3, 0.0], w, down, Friction::Rough), [0.0, -0.5]);
-        // Separating (material moving down faster than the body): untouched, whatever the friction.
-        assert_eq!(contact_velocity([0.3, -0.7], w, down, Friction::Rough), [0.3, -0.7]);
-        // Exactly matched normal velocity (sliding along): untouched.
-        assert_eq!(contact_velocity([0.3, -0.5], w, down, Friction::Rough), [0.3, -0.5]);
-        // Oblique normal: the result never moves into the body, and the removed part is along n.
-        let s = 0.5f64.sqrt();
-        let n = [s, -s];
-        let v = contact_velocity([-1.0, 0.2], [0.0, 0.0], n, SMOOTH);
-        assert!((v[0] * n[0] + v[1] * n[1]).abs() < 1e-15);
-        let d = [v[0] + 1.0, v[1] - 0.2];
-        assert!((d[0] * n[1] - d[1] * n[0]).abs() < 1e-15, "correction not along n");
-        // A body moving sideways (a pile pushed laterally in plane strain): its right face
-        // (outward normal +x) moving at 0.4 m/s meets material at rest, which is pushed along
-        // at the body's speed and keeps its own tangential velocity when smooth.
-        assert_eq!(contact_velocity([0.0, 0.2], [0.4, 0.0], [1.0, 0.0], SMOOTH), [0.4, 0.2]);
-        // Material already moving away faster than the face: untouched.
-        assert_eq!(contact_velocity([0.5, 0.2], [0.4, 0.0], [1.0, 0.0], Friction::Rough), [0.5, 0.2]);
-    }
 
     /// The base/shaft split: a face steeper than 45° from horizontal is shaft; a 45° face (a
     /// cone tip of 90°) is shaft too, by the strict inequality; a flat base is base.
@@ -800,6 +931,93 @@ mod tests {
         assert!((w[0] - 0.1).abs() < 1e-12 && (w[1] + 0.2).abs() < 1e-12);
     }
 
+    /// The first exit from the grid [0, 1]² of the box [0.4, 0.6]² by hand: at 1 m/s up it
+    /// leaves at t = 0.4; with v = 1 − 2t its displacement t − t² peaks at 0.25 (t = 0.5), so
+    /// a box reaching 0.8 leaves where 0.8 + t − t² = 1, t = (1 − √0.2)/2, unless the run ends
+    /// before.
+    #[test]
+    fn first_exit_from_the_grid_by_hand() {
+        let (lo, hi, lower, upper) = ([0.4, 0.4], [0.6, 0.6], [0.0, 0.0], [1.0, 1.0]);
+        let t = Motion::constant([0.0, 1.0]).first_exit(lo, hi, lower, upper, 1.0).unwrap();
+        assert!((t - 0.4).abs() < 1e-11, "{t}");
+        assert_eq!(Motion::constant([0.0, 1.0]).first_exit(lo, hi, lower, upper, 0.39), None);
+        let up_and_down = Motion::table(&[[0.0, 0.0, 1.0], [1.0, 0.0, -1.0]]);
+        let tall = [0.6, 0.8];
+        let t = up_and_down.first_exit(lo, tall, lower, upper, 2.0).unwrap();
+        assert!((t - 0.5 * (1.0 - 0.2f64.sqrt())).abs() < 1e-11, "{t}");
+        assert_eq!(up_and_down.first_exit(lo, tall, lower, upper, 0.2), None);
+        // Lower, it turns back inside and leaves through the bottom once D = −0.4 (t = 1.4).
+        let t = up_and_down.first_exit(lo, hi, lower, upper, 2.0).unwrap();
+        assert!((t - 1.4).abs() < 1e-11, "{t}");
+        // Sideways (x) and downwards too; a table that starts late stays until its first row.
+        let t = Motion::table(&[[0.5, -2.0, 0.0], [1.0, -2.0, 0.0]]).first_exit(lo, hi, lower, upper, 9.0).unwrap();
+        assert!((t - 0.2).abs() < 1e-11, "{t}");
+        let t = Motion::table(&[[0.5, 0.0, 0.0], [0.5 + 1e-9, 0.0, -1.0]]).first_exit(lo, hi, lower, upper, 9.0).unwrap();
+        assert!((t - 0.9).abs() < 1e-8, "{t}");
+        // The path of the user report: out at once.
+        let t = Motion::table(&[[0.0, 0.0, 1e308], [1.0, 0.0, 1e308]]).first_exit(lo, hi, lower, upper, 1.0).unwrap();
+        assert!(t < 1e-300, "{t}");
+    }
+
+    #[test]
+    fn a_path_that_leaves_the_grid_is_refused_naming_the_key_and_the_time() {
+        let configs: Vec<RigidBodyConfig> = serde_json::from_value(json!([{"name": "pile", "min": [0.4, 0.4],
+            "max": [0.6, 0.6], "motion": [[0, 0, 1e308], [1, 0, 1e308]]}])).unwrap();
+        let e = build_all(&configs, [0.0; 2], [1.0; 2], false, 1.0, &[]).err().unwrap();
+        assert!(e.starts_with("rigid_bodies[0].motion: the prescribed path carries the body out of the grid at t = "), "{e}");
+        let configs: Vec<RigidBodyConfig> = serde_json::from_value(json!([{"name": "pile", "min": [0.4, 0.4],
+            "max": [0.6, 0.6], "velocity": [0.0, -0.5]}])).unwrap();
+        let e = build_all(&configs, [0.0; 2], [1.0; 2], false, 1.0, &[]).err().unwrap();
+        assert!(e.starts_with("rigid_bodies[0].velocity:") && e.contains("t = 8.000000e-1 s"), "{e}");
+        assert!(build_all(&configs, [0.0; 2], [1.0; 2], false, 0.79, &[]).is_ok());
+    }
+
+    /// Adhesion at the nodes by hand: a pile [0, 0.25] × [0, 1] against the grid's left edge,
+    /// rising at 1 m/s past material at rest (h = 0.25, m = 2 per node, Δt = 10⁻³, a = 100
+    /// Pa). The node (1, 2) on its side face (normal +x, the material neither approaching nor
+    /// leaving) represents the face's length h = 0.25 (× its radius 0.25 per radian in
+    /// axisymmetry): it is dragged up by a A Δt/m = 0.0125 m/s (0.003125), or by the limit's
+    /// when a_lim = 50 Pa; the node (0, 2) inside the pile, a whole cell from the face, is not.
+    #[test]
+    fn adhesion_drags_the_nodes_of_a_face_by_its_area() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let pile = |extra: Value| {
+            let mut t = table(json!({"name": "pile", "min": [0.0, 0.0], "max": [0.25, 1.0], "velocity": [0.0, 1.0]}));
+            t.extend(table(extra));
+            Value::Object(t)
+        };
+        let mass = vec![2.0; grid.num_nodes()];
+        for (axisymmetric, extra, drag) in [
+            (false, json!({"adhesion": 100.0}), 0.0125),
+            (false, json!({"adhesion": 100.0, "adhesion_limit": 50.0}), 0.00625),
+            (true, json!({"adhesion": 100.0}), 0.003125),
+            (false, json!({}), 0.0),
+        ] {
+            let mut b = build(json!([pile(extra)]), axisymmetric).unwrap().pop().unwrap();
+            let mut v = vec![[0.0, 0.0]; grid.num_nodes()];
+            let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-3, axisymmetric };
+            b.apply(&context, &mut v, true);
+            let got = v[grid.node_index(1, 2)];
+            assert!(got[0] == 0.0 && (got[1] - drag).abs() < 1e-15, "axisymmetric {axisymmetric}: {got:?} vs {drag}");
+            assert_eq!(v[grid.node_index(0, 2)], [0.0, 0.0]);
+            // The impulse on the pile is the momentum given to the material (shaft part).
+            let (_, shaft) = b.take_impulse_parts();
+            assert!(shaft[1] <= -2.0 * drag + 1e-15, "{shaft:?}");
+        }
+        // Where the material ends along the face (no mass at the node above) the node stands
+        // for the half band below it only.
+        let mut ended = mass.clone();
+        ended[grid.node_index(1, 3)] = 0.0;
+        let mut b = build(json!([pile(json!({"adhesion": 100.0}))]), false).unwrap().pop().unwrap();
+        let mut v = vec![[0.0, 0.0]; grid.num_nodes()];
+        b.apply(&NodalContext { grid: &grid, mass: &ended, time: 0.0, dt: 1e-3, axisymmetric: false }, &mut v, true);
+        assert!((v[grid.node_index(1, 2)][1] - 0.00625).abs() < 1e-15, "{:?}", v[grid.node_index(1, 2)]);
+        let e = build(json!([pile(json!({"adhesion": -1.0}))]), false).err().unwrap();
+        assert!(e.starts_with("rigid_bodies[0].adhesion: must be a finite number >= 0 Pa"), "{e}");
+        let e = build(json!([pile(json!({"adhesion_limit": 0.0}))]), false).err().unwrap();
+        assert!(e.starts_with("rigid_bodies[0].adhesion_limit: must be a finite number > 0 Pa"), "{e}");
+    }
+
     fn table(v: Value) -> Map<String, Value> {
         let Value::Object(m) = v else { unreachable!() };
         m
@@ -813,9 +1031,9 @@ mod tests {
     }
 
     fn build(bodies: Value, axisymmetric: bool) -> Result<Vec<RigidBody>, String> {
-        let tables: Vec<Map<String, Value>> =
-            bodies.as_array().unwrap().iter().map(|b| b.as_object().unwrap().clone()).collect();
-        build_all(&tables, [0.0, 0.0], [1.0, 1.0], axisymmetric)
+        let configs: Vec<RigidBodyConfig> =
+            crate::config::from_value_named(&bodies).map_err(|e| format!("rigid_bodies{e}"))?;
+        build_all(&configs, [0.0, 0.0], [1.0, 1.0], axisymmetric, f64::INFINITY, &reserved_names(1))
     }
 
     #[test]
@@ -844,7 +1062,19 @@ mod tests {
         let ok = build(json!([square_body(json!({"motion": [[0.0, 0.0, 0.0], [1.0, 0.0, -1.0]], "friction": "rough"}))]), true)
             .unwrap();
         assert_eq!(ok[0].friction(), Friction::Rough);
-        assert!(build_all(&[], [0.0; 2], [1.0; 2], false).unwrap().is_empty());
+        assert!(build_all(&[], [0.0; 2], [1.0; 2], false, 1.0, &[]).unwrap().is_empty());
+        // Names of the faces and walls are taken; a key no rigid body has is refused.
+        let e = err(square_body(json!({"velocity": [0, 0], "name": "wall_0"})), false);
+        assert!(e.starts_with("rigid_bodies[0].name") && e.contains("grid face or wall"), "{e}");
+        let e = err(square_body(json!({"velocity": [0, 0], "min": [0.0, 0.0]})), false);
+        assert!(e.starts_with("rigid_bodies[0].min: unknown key") && e.contains("vertices"), "{e}");
+        let e = err(square_body(json!({"velocity": [0, 0], "frcition": 0.2})), false);
+        assert!(e.starts_with("rigid_bodies[0].frcition: unknown key"), "{e}");
+        // The type errors name the key too.
+        let e = err(square_body(json!({"velocity": [0, 0, 1]})), false);
+        assert!(e.starts_with("rigid_bodies[0].velocity:"), "{e}");
+        let e = err(square_body(json!({"velocity": [0, 0], "friction": true})), false);
+        assert!(e.starts_with("rigid_bodies[0].friction: must be a number >= 0"), "{e}");
     }
 
     /// On a 4 × 4-cell grid (h = 0.25) the plate [0.25, 0.75] × [0.5, 0.75] (moving down, by

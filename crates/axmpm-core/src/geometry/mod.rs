@@ -30,20 +30,23 @@ pub trait Region: Send + Sync + std::fmt::Debug {
     fn signed_distance(&self, x: [f64; 2]) -> (f64, [f64; 2]);
     /// Returns a copy moved by `offset` (rigid bodies move their region).
     fn translated(&self, offset: [f64; 2]) -> Box<dyn Region>;
+    /// The region as a polygon (a rigid body's contact surface).
+    fn outline(&self) -> Polygon;
 }
 
 /// Builds a region from the keys of a body table (`context` names the table in errors).
 pub type RegionBuilder = fn(context: &str, table: &Map<String, Value>) -> Result<Box<dyn Region>, String>;
 
-/// The shapes a body may have: name → builder. One line per shape.
-pub const SHAPES: &[(&str, RegionBuilder)] = &[("rectangle", rectangle::build), ("polygon", polygon::build)];
+/// The shapes a body may have: name → builder and the shape's own keys. One line per shape.
+pub const SHAPES: &[(&str, RegionBuilder, &[&str])] =
+    &[("rectangle", rectangle::build, &["min", "max"]), ("polygon", polygon::build, &["vertices"])];
 
 /// Shape of a body table without a `shape` key.
 pub const DEFAULT_SHAPE: &str = "rectangle";
 
 /// Names of the registered shapes, in registry order.
 pub fn shape_names() -> Vec<&'static str> {
-    SHAPES.iter().map(|(name, _)| *name).collect()
+    SHAPES.iter().map(|(name, _, _)| *name).collect()
 }
 
 /// Builds a region from a body table (keys `shape` plus the shape's own keys, e.g.
@@ -54,10 +57,17 @@ pub fn build(context: &str, table: &Map<String, Value>) -> Result<Box<dyn Region
         Some(Value::String(s)) => s.as_str(),
         Some(other) => return Err(format!("{context}.shape: must be a string (got {other})")),
     };
-    match SHAPES.iter().find(|(name, _)| *name == shape) {
-        Some((_, builder)) => builder(context, table),
+    match SHAPES.iter().find(|(name, _, _)| *name == shape) {
+        Some((_, builder, _)) => builder(context, table),
         None => Err(format!("{context}.shape: unknown shape '{shape}' (known: {})", shape_names().join(", "))),
     }
+}
+
+/// The keys of the region of a table (`shape` and the shape's own; an unknown shape has none).
+pub fn region_keys(table: &Map<String, Value>) -> Vec<&'static str> {
+    let shape = table.get("shape").and_then(Value::as_str).unwrap_or(DEFAULT_SHAPE);
+    let own = SHAPES.iter().find(|(name, _, _)| *name == shape).map_or(&[][..], |(_, _, keys)| *keys);
+    std::iter::once("shape").chain(own.iter().copied()).collect()
 }
 
 /// Reads a point `[x, y]` (m) under `key`.

@@ -207,6 +207,53 @@ impl Polygon {
         (signed, first, other)
     }
 
+    /// The stretch of a face that a point `x` represents, for the tractions of a contact: on
+    /// the edge with outward normal `normal` nearest to `x` (the nearest edge when none has
+    /// it), the part from `band[0]` before to `band[1]` after the projection of `x` along the
+    /// edge (its direction is (−n_y, n_x), counter-clockwise) and at first coordinate ≥ `min_x`.
+    /// Returns (its length, ∫ x₀ ds over it): the area per metre, and per radian in axisymmetry.
+    pub fn face_band(&self, x: [f64; 2], normal: [f64; 2], band: [f64; 2], min_x: f64) -> (f64, f64) {
+        let n = self.vertices.len();
+        let mut best: Option<(bool, f64, usize)> = None;
+        for i in 0..n {
+            let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
+            let e = sub(b, a);
+            let t = (dot(sub(x, a), e) / dot(e, e)).clamp(0.0, 1.0);
+            let d = sub(x, [a[0] + t * e[0], a[1] + t * e[1]]);
+            let key = (dot(self.normals[i], normal) > 1.0 - 1e-9, dot(d, d));
+            let better = match best {
+                None => true,
+                Some((matches, distance, _)) => (key.0 && !matches) || (key.0 == matches && key.1 < distance),
+            };
+            if better {
+                best = Some((key.0, key.1, i));
+            }
+        }
+        let Some((_, _, i)) = best else { return (0.0, 0.0) };
+        let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
+        let e = sub(b, a);
+        let length = dot(e, e).sqrt();
+        let u = [e[0] / length, e[1] / length];
+        let s = dot(sub(x, a), u);
+        let (mut lo, mut hi) = ((s - band[0]).max(0.0), (s + band[1]).min(length));
+        // Keep the part at x₀ ≥ min_x (x₀ is linear in the arc length s).
+        if u[0] != 0.0 {
+            let s_min = (min_x - a[0]) / u[0];
+            if u[0] > 0.0 {
+                lo = lo.max(s_min);
+            } else {
+                hi = hi.min(s_min);
+            }
+        } else if a[0] < min_x {
+            return (0.0, 0.0);
+        }
+        if !(hi > lo) {
+            return (0.0, 0.0);
+        }
+        let mid = a[0] + 0.5 * (lo + hi) * u[0];
+        (hi - lo, (hi - lo) * mid)
+    }
+
     /// Crossing-number test (even–odd rule), boundary not included reliably.
     #[inline]
     fn crossing_inside(&self, x: [f64; 2]) -> bool {
@@ -331,6 +378,10 @@ impl Region for Polygon {
             }
         };
         (signed, normal)
+    }
+
+    fn outline(&self) -> Polygon {
+        self.clone()
     }
 
     fn translated(&self, offset: [f64; 2]) -> Box<dyn Region> {

@@ -73,6 +73,11 @@ impl Region for Rectangle {
         (beyond[k], normals[k])
     }
 
+    fn outline(&self) -> super::Polygon {
+        let (lo, hi) = (self.min, self.max);
+        super::Polygon::new(vec![lo, [hi[0], lo[1]], hi, [lo[0], hi[1]]]).expect("a rectangle with min < max is a simple polygon")
+    }
+
     fn translated(&self, offset: [f64; 2]) -> Box<dyn Region> {
         Box::new(Rectangle {
             min: [self.min[0] + offset[0], self.min[1] + offset[1]],

@@ -131,14 +131,6 @@ pub fn flow_rule_holds(
     false
 }
 
-/// Asserts that a returned stress is admissible and on the yield surface:
-/// `yield_value(σ)` (the largest of the model's yield functions, ≤ 0 inside) within
-/// `tolerance` of zero.
-pub fn assert_on_surface(yield_value: impl Fn(&[f64; 3]) -> f64, s: &[f64; 3], tolerance: f64, what: &str) {
-    let f = yield_value(s);
-    assert!(f.abs() <= tolerance, "{what}: f = {f:e} at {s:?} (tolerance {tolerance:e})");
-}
-
 /// One material point driven through velocity gradients, its F integrated as the solver does
 /// (F ← (I + Δt L) F in-plane, F33 ← (1 + Δt L33) F33).
 #[derive(Clone, Debug)]

@@ -199,6 +199,11 @@ def collapse_scenario(
             raise ValueError(f"gate_thickness: must be a whole number of cells >= 1 (got {gate_thickness})")
         motion = [[0.0, 0.0, float(gate_speed)]] if release_time <= 0.0 else \
             [[release_time, 0.0, 0.0], [release_time + 1e-6, 0.0, float(gate_speed)]]
+        # The tube stops when its top reaches the grid's (its path must stay inside the grid):
+        # it rises by the head-room above it, 2 cells + half the column (below), less 1 µs of travel.
+        room = (2 + math.ceil(0.5 * n_z)) * h
+        stop = max(release_time, 0.0) + room / float(gate_speed) - 1e-6
+        motion += [[stop, 0.0, float(gate_speed)], [stop + 1e-6, 0.0, 0.0]]
         cylinder_walls = []
         rigid_bodies = [{
             "name": "cylinder", "shape": "rectangle",

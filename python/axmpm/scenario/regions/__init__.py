@@ -33,10 +33,13 @@ from pydantic import BeforeValidator, Field
 from ...catalogue import region_shapes
 from ..bodies import Region, body_class
 
-__all__ = ["register_region", "REGION_SHAPES", "DEFAULT_SHAPE", "body_type", "shape_names"]
+__all__ = ["register_region", "REGION_SHAPES", "REGIONS", "DEFAULT_SHAPE", "body_type", "shape_names",
+           "default_shape"]
 
 #: shape name → body class (the common body keys around the region's).
 REGION_SHAPES: dict[str, type[Any]] = {}
+#: shape name → the region alone (its keys and geometry), e.g. for ``[[rigid_bodies]]``.
+REGIONS: dict[str, type[Region]] = {}
 #: The shape of a body table without ``shape``.
 DEFAULT_SHAPE = "rectangle"
 
@@ -49,6 +52,7 @@ def register_region(name: str) -> Callable[[type[Region]], type[Region]]:
         if name in REGION_SHAPES:
             raise ValueError(f"region shape {name!r} is registered twice")
         REGION_SHAPES[name] = body_class(region)
+        REGIONS[name] = region
         return region
 
     return decorate
@@ -66,7 +70,7 @@ def shape_names() -> list[str]:
     return engine + sorted(set(REGION_SHAPES) - set(engine))
 
 
-def _default_shape(value: Any) -> Any:
+def default_shape(value: Any) -> Any:
     if isinstance(value, dict) and "shape" not in value:
         return {**value, "shape": DEFAULT_SHAPE}
     return value
@@ -79,4 +83,4 @@ def body_type() -> Any:
     if len(classes) == 1:
         return classes[0]
     return Annotated[Union[classes], Field(discriminator="shape"),  # type: ignore[valid-type]
-                     BeforeValidator(_default_shape)]
+                     BeforeValidator(default_shape)]

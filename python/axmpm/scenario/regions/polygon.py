@@ -6,8 +6,8 @@ lie inside the polygon (boundary included); cells cut by the boundary get fewer 
 of the full sub-cell volume (particle volumes are not trimmed to the boundary).
 
 The checks here repeat the engine's (degenerate or self-intersecting polygons are reported with
-the key) so that ``axmpm check`` names the problem before the engine is built; the geometry
-helpers are shared with ``[[rigid_bodies]]`` (:mod:`..rigid_bodies`).
+the key) so that ``axmpm check`` names the problem before the engine is built; a rigid body of
+this shape (:mod:`..rigid_bodies`) is checked by the engine alone.
 """
 
 from __future__ import annotations
@@ -157,6 +157,11 @@ class Polygon(Region):
                      f"[{fmt(grid.lo[1])}, {fmt(grid.hi[1])}] (the polygon spans [{fmt(x0)}, {fmt(x1)}] x "
                      f"[{fmt(y0)}, {fmt(y1)}])")]
         return []
+
+    def contains(self, points: np.ndarray) -> np.ndarray:
+        if polygon_problem(self.vertices) is not None:
+            return np.zeros(len(points), dtype=bool)
+        return inside_polygon(self.vertices, points)
 
     def lattice_points(self, origin: Vec2, cell_size: float) -> np.ndarray:
         """The body's particle positions (N × 2)."""

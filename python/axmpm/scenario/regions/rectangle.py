@@ -21,8 +21,8 @@ class Rectangle(Region):
     corners, on grid lines."""
 
     shape: Literal["rectangle"] = "rectangle"
-    min: Vec2 = Field(description="m, on grid lines")
-    max: Vec2 = Field(description="m, on grid lines")
+    min: Vec2 = Field(description="m (a body's: on grid lines)")
+    max: Vec2 = Field(description="m (a body's: on grid lines)")
 
     def bounding_box(self) -> tuple[Vec2, Vec2] | None:
         if self.min[0] < self.max[0] and self.min[1] < self.max[1]:
@@ -47,6 +47,10 @@ class Rectangle(Region):
                                    f"must lie on a grid line (multiples of {fmt(grid.h)} m from the "
                                    f"origin {fmt(lo)}) (got {fmt(value)})"))
         return errors
+
+    def contains(self, points: "np.ndarray") -> "np.ndarray":
+        (x0, y0), (x1, y1) = self.min, self.max
+        return (points[:, 0] >= x0) & (points[:, 0] <= x1) & (points[:, 1] >= y0) & (points[:, 1] <= y1)
 
     def lattice_points(self, origin: Vec2, cell_size: float) -> "np.ndarray":
         """The body's particle positions (N × 2): every lattice point of its cells."""
