@@ -42,13 +42,17 @@ def test_quick_run_meets_terzaghi(tmp_path: Path) -> None:
     options = argparse.Namespace(quick=True, overrides=[], figures=False)
     data = driver.verify_or_validate("verification", [consolidation.CASE], options, tmp_path, jobs=1, log=None)
     records = {r["name"]: r for r in data["cases"]}
-    assert set(records) == {"plane_strain_n10", "axisymmetric_n10", "undrained"}
+    assert set(records) == {"plane_strain_n10", "axisymmetric_n10", "undrained", "mandel_n10"}
     for name in ("plane_strain_n10", "axisymmetric_n10"):
         r = records[name]
         assert r["status"] == "completed", r["message"]
         assert r["degree_error"] < consolidation.DEGREE_TOLERANCE
         assert r["isochrone_error"] < consolidation.ISOCHRONE_TOLERANCE
     assert abs(records["undrained"]["undrained_ratio"] - 1.0) < consolidation.UNDRAINED_TOLERANCE
+    mandel_run = records["mandel_n10"]
+    assert mandel_run["status"] == "completed", mandel_run["message"]
+    assert mandel_run["mandel_error"] < consolidation.MANDEL_TOLERANCE
+    assert mandel_run["peak"] > 1.0  # the Mandel–Cryer effect
     assert data["passed"] and all(c["passed"] for c in data["checks"])
     # Frames carry the pore pressure, the porosity and the water velocity.
     from axmpm.run.output import load_run
@@ -57,6 +61,27 @@ def test_quick_run_meets_terzaghi(tmp_path: Path) -> None:
     assert frame.pore_pressure.shape == (len(frame.x),) and frame.water_velocity.shape == (len(frame.x), 2)
     # The skeleton compressed: the porosity fell below its initial 0.4.
     assert (frame.porosity < consolidation.POROSITY).all() and (frame.porosity > 0.3).all()
+
+
+def test_mandel_closed_form() -> None:
+    from axmpm.cases.consolidation import mandel
+
+    material = consolidation.mandel_material(1e-3)
+    # Incompressible grains, stiff water: B → 1 and ν_u → 1/2.
+    assert 0.999 < material.skempton < 1.0 and 0.499 < material.undrained_poisson_ratio < 0.5
+    nu, nu_u = 0.2, 0.4
+    alpha = mandel.roots(nu, nu_u, 50)
+    assert np.allclose(np.tan(alpha), (1 - nu) / (nu_u - nu) * alpha, rtol=1e-9)
+    assert 0 < alpha[0] < np.pi / 2 and np.all(np.diff(alpha) > 0)
+    # Uniform p₀ at t → 0 inside (the rise grows as √T), zero at the drained side, decay at last.
+    assert mandel.pressure(0.5, 1e-7, material)[0] == pytest.approx(1.0, abs=1e-3)
+    assert abs(mandel.pressure(1.0, 0.1, material)[0]) < 1e-9
+    early = mandel.centre_pressure([1e-6, 1e-4], material) - 1.0
+    assert early[1] / early[0] == pytest.approx(10.0, rel=0.02)
+    assert mandel.centre_pressure(8.0, material)[0] < 1e-3
+    # The Mandel–Cryer effect: the centre rises above p₀, then falls below it.
+    centre = mandel.centre_pressure(np.linspace(0.001, 1.0, 500), material)
+    assert 1.1 < centre.max() < 1.2 and centre[-1] < 0.5
 
 
 def test_checks_fail_on_bad_records() -> None:
@@ -70,6 +95,12 @@ def test_checks_fail_on_bad_records() -> None:
     assert not consolidation.evaluate_checks([dict(good, isochrone_error=None)], quick=True)[1]["passed"]
     undrained = {"run": "undrained", "kind": "undrained", "undrained_ratio": 1.02, "undrained_error": 0.02}
     assert not consolidation.evaluate_checks([undrained], quick=True)[0]["passed"]
+    m10 = {"run": "mandel_n10", "kind": "mandel", "cells": 10, "mandel_error": 0.03, "peak": 1.1}
+    m20 = dict(m10, run="mandel_n20", cells=20, mandel_error=0.02)
+    assert all(c["passed"] for c in consolidation.evaluate_checks([m10, m20]))
+    assert not consolidation.evaluate_checks([m10, dict(m20, mandel_error=0.04)])[-1]["passed"]
+    assert not consolidation.evaluate_checks([dict(m10, mandel_error=0.06)], quick=True)[0]["passed"]
+    assert not consolidation.evaluate_checks([dict(m10, peak=0.99)], quick=True)[1]["passed"]
 
 
 def _scenario(**saturated):
@@ -110,6 +141,20 @@ def test_one_pore_water_and_one_initial_pressure() -> None:
     with pytest.raises(ScenarioError) as info:
         Scenario.from_dict(bad)
     assert "drainage.top" in str(info.value)
+
+
+def test_loading_plate_needs_the_top_on_a_grid_line() -> None:
+    data = consolidation.mandel_scenario(10, consolidation.MANDEL_CONDUCTIVITY, as_dict=True)
+    Scenario.from_dict(data)
+    data["bodies"][0]["max"] = [1.0, 0.45]
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(data)
+    assert "bodies.0.saturated.loading_plate" in str(info.value) and "grid line" in str(info.value)
+    data = consolidation.mandel_scenario(10, consolidation.MANDEL_CONDUCTIVITY, as_dict=True)
+    data["bodies"][0]["saturated"]["surface_load"] = 0.0
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(data)
+    assert "bodies.0.saturated.loading_plate" in str(info.value) and "surface_load > 0" in str(info.value)
 
 
 def test_command_line_exits_2_naming_the_key(tmp_path: Path) -> None:

@@ -188,13 +188,45 @@ def test_reactions_of_a_block_at_rest_carry_its_weight(tmp_path: Path, formulati
     run = load_run(out)
     # free faces report nothing; in axisymmetry the left face is the axis, which reports nothing
     assert set(run.reactions) == ({"left", "bottom"} if formulation == "plane_strain" else {"bottom"})
-    assert {"bottom.force_x", "bottom.force_y"} <= set(run.history)
+    if formulation == "plane_strain":
+        assert {"bottom.force_x", "bottom.force_y"} <= set(run.history)
+    else:  # a ring: the axial force and the radial traction integral, no radial "resultant"
+        assert {"bottom.force_y", "bottom.radial_force_integral"} <= set(run.history)
+        assert "bottom.force_x" not in run.history
     rho, g = 1000.0, 10.0
     weight = rho * g * 0.2 * 0.2 * (math.pi * 0.2 if formulation == "axisymmetric" else 1.0)
     assert run.history["time"].tolist() == [0.0, 0.5, 1.0, 1.5]
     fx, fy = run.reactions["bottom"][-2:].mean(axis=0)
     assert fy == pytest.approx(-weight, rel=5e-3)
-    if formulation == "plane_strain":  # (in axisymmetry force_x sums radial forces round the circle)
+    if formulation == "plane_strain":
         assert abs(fx) < 5e-3 * weight
+    else:
+        assert fx == 0.0  # the radial resultant of a ring
     assert run.reactions["bottom"][0].tolist() == [0.0, 0.0]  # t = 0: nothing elapsed
     assert summary["reactions"]["bottom"] == run.reactions["bottom"][-1].tolist()
+
+
+def test_an_axisymmetric_rigid_body_reports_its_axial_force_and_the_radial_traction_integral(
+        tmp_path: Path) -> None:
+    """A ring has no radial resultant: an axisymmetric run writes the axial force (whole ring)
+    and, under its own name, the radial traction integral; no ``_x`` force columns, and the
+    readers give force_x = 0."""
+    import axmpm
+    from test_rigid_bodies import footing
+
+    data = footing(formulation="axisymmetric")
+    summary = axmpm.run(data, tmp_path / "run", threads=1, progress=False)
+    assert summary["status"] == "completed"
+    run = load_run(tmp_path / "run")
+    history = set(run.history)
+    assert {"footing.force_y", "footing.radial_force_integral", "footing.base_force_y",
+            "footing.shaft_force_y", "footing.displacement_x", "footing.displacement_y"} <= history
+    assert not {"footing.force_x", "footing.base_force_x", "footing.shaft_force_x"} & history
+    body = run.rigid_bodies["footing"]
+    assert body["force"][-1, 1] > 0.0  # the clay pushes the footing up
+    assert body["force"][:, 0].tolist() == [0.0] * len(run.history["time"])
+    # The rough base drags the clay outwards beneath it: the clay's radial traction on the
+    # footing is outward-pointing (+r) — a nonzero integral, though the resultant is zero.
+    assert run.history["footing.radial_force_integral"][-1] != 0.0
+    assert summary["reactions"]["footing"][0] == 0.0
+    assert summary["rigid_bodies"]["footing"]["force"][0] == 0.0

@@ -90,7 +90,8 @@ def test_toml_round_trip_is_exact() -> None:
 
 def test_engine_json_has_every_section() -> None:
     d = json.loads(Scenario.from_dict(base()).engine_json())
-    assert set(d) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls", "rigid_bodies", "drainage"}
+    assert set(d) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls", "rigid_bodies", "drainage",
+                      "surcharges", "probes"}
     assert d["materials"]["soil"]["model"] == "linear_elastic"
     assert d["bodies"][0]["k0"] == pytest.approx(0.3 / 0.7)
 
@@ -137,7 +138,8 @@ FIELD_CASES = [
     ("boundaries.bottom=3", "boundaries.bottom", "condition name"),
     ("boundaries.bottom={condition='friction', coefficient=-0.5}", "boundaries.bottom.coefficient", ">= 0"),
     ("materials.soil.model=elastic", "materials.soil.model", "unknown material model 'elastic'"),
-    ("bodies.0.initial_stress=k0", "bodies.0.initial_stress", "'zero' or 'geostatic'"),
+    ("bodies.0.initial_stress=k0", "bodies.0.initial_stress", '"zero", "geostatic", { vertical = ..., horizontal'),
+    ("bodies.0.initial_stress={vertical=-1e3}", "bodies.0.initial_stress", "horizontal: Field required"),
     ("bodies.0.k0=-1", "bodies.0.k0", ">= 0"),
 ]
 
@@ -344,5 +346,5 @@ def test_missing_file(tmp_path: Path) -> None:
 def test_schema_lists_sections() -> None:
     schema = Scenario.model_json_schema()
     assert set(schema["properties"]) == {"simulation", "grid", "materials", "bodies", "boundaries", "walls",
-                                         "rigid_bodies", "drainage"}
+                                         "rigid_bodies", "drainage", "surcharges", "probes"}
     assert schema["$defs"]["Simulation"]["properties"]["cfl"]["exclusiveMinimum"] == 0.0

@@ -126,6 +126,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
         walls: vec![],
         rigid_bodies: vec![],
         drainage: Default::default(),
+        surcharges: Vec::new(),
         extra: Default::default(),
     }
 }

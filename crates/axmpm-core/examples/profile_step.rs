@@ -19,7 +19,7 @@ fn main() {
         bodies: vec![BodyConfig::rectangle("m", [0.0, 0.0], [0.1, 0.2])],
         boundaries: BoundariesConfig { left: BoundaryCondition::ROLLER, right: BoundaryCondition::FREE,
             bottom: BoundaryCondition::friction(0.5), top: BoundaryCondition::FREE },
-        walls: vec![], rigid_bodies: vec![], drainage: Default::default(), extra: Default::default() };
+        walls: vec![], rigid_bodies: vec![], drainage: Default::default(), surcharges: Vec::new(), extra: Default::default() };
     let mut sim = Simulation::new(cfg, threads).unwrap();
     sim.advance(1e9, 10).unwrap();
     let t = std::time::Instant::now();

@@ -163,11 +163,86 @@ impl MaterialConfig {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
+/// A body's stress at t = 0 (Pa, tension positive).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "InitialStressInput", into = "InitialStressInput")]
 pub enum InitialStress {
+    /// Stress free.
+    Zero,
+    /// σ_v from the weight of all material above (and the surcharges), σ_h = K0 σ_v.
+    Geostatic,
+    /// Uniform, the components [xx, yy, zz, xy] (axisymmetric: [rr, zz, θθ, rz]).
+    Given([f64; 4]),
+}
+
+/// How a scenario writes [`InitialStress`]: `"zero"`, `"geostatic"`, a table
+/// `{ vertical, horizontal }` (σ_yy and σ_xx = σ_zz, no shear) or `{ xx, yy, zz, xy }`.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+#[serde(untagged)]
+enum InitialStressInput {
+    Named(InitialStressName),
+    VerticalHorizontal { vertical: f64, horizontal: f64 },
+    Components { xx: f64, yy: f64, zz: f64, #[serde(default)] xy: f64 },
+}
+
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum InitialStressName {
     Zero,
     Geostatic,
+}
+
+impl TryFrom<InitialStressInput> for InitialStress {
+    type Error = String;
+    fn try_from(input: InitialStressInput) -> Result<Self, String> {
+        let stress = match input {
+            InitialStressInput::Named(InitialStressName::Zero) => return Ok(InitialStress::Zero),
+            InitialStressInput::Named(InitialStressName::Geostatic) => return Ok(InitialStress::Geostatic),
+            InitialStressInput::VerticalHorizontal { vertical, horizontal } => [horizontal, vertical, horizontal, 0.0],
+            InitialStressInput::Components { xx, yy, zz, xy } => [xx, yy, zz, xy],
+        };
+        if stress.iter().all(|c| c.is_finite()) {
+            Ok(InitialStress::Given(stress))
+        } else {
+            Err(format!("initial_stress: the components must be finite numbers in Pa (got {stress:?})"))
+        }
+    }
+}
+
+impl From<InitialStress> for InitialStressInput {
+    fn from(stress: InitialStress) -> Self {
+        match stress {
+            InitialStress::Zero => InitialStressInput::Named(InitialStressName::Zero),
+            InitialStress::Geostatic => InitialStressInput::Named(InitialStressName::Geostatic),
+            InitialStress::Given([xx, yy, zz, xy]) => InitialStressInput::Components { xx, yy, zz, xy },
+        }
+    }
+}
+
+/// A uniform pressure on a free surface of the material (`[[surcharges]]`): carried by the
+/// particles whose upper edge lies on the line y = `level` within `range` of x (r), each
+/// loaded with the pressure times its width (× its radius in axisymmetry, per radian) as a
+/// dead load, ramped in with gravity (`gravity_ramp_time`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SurchargeConfig {
+    /// Names the history column NAME.applied_force_y; default `surcharge_<index>`.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Pa, ≥ 0 (compressive on the surface).
+    pub pressure: f64,
+    /// Height of the loaded surface, m.
+    pub level: f64,
+    /// The x (r) range loaded, m; default the whole grid width.
+    #[serde(default)]
+    pub range: Option<[f64; 2]>,
+}
+
+impl SurchargeConfig {
+    /// Whether the surcharge covers the abscissa `x`.
+    pub fn covers(&self, x: f64) -> bool {
+        self.range.is_none_or(|[a, b]| a <= x && x <= b)
+    }
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -306,6 +381,9 @@ pub struct Config {
     /// `name`, the region keys (`shape`, ...), `velocity` or `motion`, `friction`.
     #[serde(default)]
     pub rigid_bodies: Vec<serde_json::Map<String, serde_json::Value>>,
+    /// Uniform pressures on free surfaces ([`SurchargeConfig`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub surcharges: Vec<SurchargeConfig>,
     /// Which grid faces let the pore water out (saturated bodies only; `solver::saturated`).
     #[serde(default, skip_serializing_if = "DrainageConfig::is_default")]
     pub drainage: DrainageConfig,
@@ -372,6 +450,33 @@ impl Config {
         if self.bodies.is_empty() {
             return Err("bodies: at least one body is needed".into());
         }
+        for (i, b) in self.bodies.iter().enumerate() {
+            if b.initial_stress == InitialStress::Geostatic && !(s.gravity[1] < 0.0) {
+                return Err(format!(
+                    "bodies[{i}].initial_stress: \"geostatic\" needs gravity pointing down \
+                     (simulation.gravity[1] < 0, got {}); for weightless soil give the stress, \
+                     initial_stress = {{ vertical = ..., horizontal = ... }} (Pa, tension positive)",
+                    s.gravity[1]
+                ));
+            }
+        }
+        for (i, c) in self.surcharges.iter().enumerate() {
+            if !(c.pressure >= 0.0 && c.pressure.is_finite()) {
+                return Err(format!("surcharges[{i}].pressure must be a finite number >= 0 Pa (got {})", c.pressure));
+            }
+            let (bottom, top) = (g.origin[1], g.origin[1] + g.extent[1]);
+            if !(c.level >= bottom && c.level <= top) {
+                return Err(format!("surcharges[{i}].level must lie in the grid, {bottom}..{top} m (got {})", c.level));
+            }
+            if let Some([a, b]) = c.range {
+                let (left, right) = (g.origin[0], g.origin[0] + g.extent[0]);
+                if !(a < b && a >= left - tol && b <= right + tol) {
+                    return Err(format!(
+                        "surcharges[{i}].range must be [x0, x1] with {left} <= x0 < x1 <= {right} m (got [{a}, {b}])"
+                    ));
+                }
+            }
+        }
         validate_saturated(self)?;
         Ok(())
     }
@@ -410,6 +515,10 @@ pub struct SaturatedConfig {
     /// particles from t = 0 on (the load of a consolidation test).
     #[serde(default)]
     pub surface_load: f64,
+    /// The surface load acts through a rigid, frictionless, impermeable plate: the nodes of the
+    /// grid row at the loaded surface move vertically together (`solver::saturated`).
+    #[serde(default)]
+    pub loading_plate: bool,
 }
 
 /// What a grid face does to the pore water.

@@ -58,6 +58,11 @@ pub struct Energies {
     pub boundary_normal_dissipation: f64,
     /// ... and the tangential component (Coulomb friction; roller walls remove none).
     pub boundary_friction_dissipation: f64,
+    /// Saturated runs (0 otherwise): the pore water's kinetic energy Σ ½ n_p ρ_w V_p |w_p|² ...
+    pub water_kinetic_energy: f64,
+    /// ... and the work of the Darcy drag on the flow relative to the skeleton since the start
+    /// of the run (`solver::saturated`, dissipated).
+    pub drag_dissipation: f64,
 }
 
 impl Energies {
@@ -69,6 +74,8 @@ impl Energies {
             - self.plastic_work
             - self.boundary_normal_dissipation
             - self.boundary_friction_dissipation
+            - self.water_kinetic_energy
+            - self.drag_dissipation
     }
 }
 
@@ -84,6 +91,10 @@ struct Checkpoint {
     /// metre); absent in older checkpoints (then 0).
     #[serde(default)]
     boundary_dissipation: [f64; 2],
+    /// Saturated runs: the water's outflow and drag work so far (per radian or metre); absent
+    /// in dry runs' and older checkpoints (then 0).
+    #[serde(default)]
+    water_totals: [f64; 2],
     /// The particles' tiles since the last sort (`particles` are stored in that order, with
     /// their ids); absent in older checkpoints (then the particles are sorted on resume).
     #[serde(default)]
@@ -105,6 +116,8 @@ pub struct Simulation {
     reactions_since: f64,
     /// Time of the last [`Simulation::rigid_body_parts`] call.
     parts_since: f64,
+    /// Each surcharge's force at full load, N per metre or per radian ([`crate::setup::surcharge_forces`]).
+    surcharge_totals: Vec<[f64; 2]>,
 }
 
 /// What a run needs of its interpolation scheme, resolved once from the scenario's names:
@@ -277,6 +290,10 @@ impl Simulation {
             dt
         };
         let water = solver::saturated::WaterState::new(&config, &grid, &particles);
+        let surcharge_totals = match s.formulation {
+            FormulationKind::PlaneStrain => crate::setup::surcharge_forces::<PlaneStrain>(&config, &particles),
+            FormulationKind::Axisymmetric => crate::setup::surcharge_forces::<Axisymmetric>(&config, &particles),
+        };
         let mut state = State {
             water,
             grid,
@@ -292,6 +309,7 @@ impl Simulation {
             time,
             steps,
             timings: Default::default(),
+            load_factor: 1.0,
         };
         state.allocate_scratch();
         state.scratch.cell_laplacian = crate::material::CellLaplacian::of(&state.materials, &grid, || {
@@ -327,14 +345,38 @@ impl Simulation {
             failure: None,
             reactions_since,
             parts_since: reactions_since,
+            surcharge_totals,
         })
     }
 
     /// Gravity at the current time: ramped linearly from zero over `gravity_ramp_time`.
     pub fn gravity(&self) -> [f64; 2] {
         let s = &self.config.simulation;
-        let factor = if s.gravity_ramp_time > 0.0 { (self.state.time / s.gravity_ramp_time).min(1.0) } else { 1.0 };
+        let factor = self.load_factor();
         [s.gravity[0] * factor, s.gravity[1] * factor]
+    }
+
+    /// The share of gravity and of the surcharges applied at the current time: ramped
+    /// linearly from zero over `gravity_ramp_time`, 1 without a ramp.
+    pub fn load_factor(&self) -> f64 {
+        let s = &self.config.simulation;
+        if s.gravity_ramp_time > 0.0 { (self.state.time / s.gravity_ramp_time).min(1.0) } else { 1.0 }
+    }
+
+    /// Each surcharge's name and the force it applies to the material now (N per metre in
+    /// plane strain, whole ring in axisymmetry; negative: downward).
+    pub fn surcharge_forces(&self) -> Vec<(String, [f64; 2])> {
+        let factor = self.load_factor() * if self.state.parameters.axisymmetric { std::f64::consts::TAU } else { 1.0 };
+        self.config
+            .surcharges
+            .iter()
+            .zip(&self.surcharge_totals)
+            .enumerate()
+            .map(|(i, (c, total))| {
+                let name = c.name.clone().unwrap_or_else(|| format!("surcharge_{i}"));
+                (name, [factor * total[0], factor * total[1]])
+            })
+            .collect()
     }
 
     /// Advances to time `until` (the last step shortened to land on it exactly) or by
@@ -358,6 +400,7 @@ impl Simulation {
                 (self.dt, false)
             };
             let gravity = self.gravity();
+            self.state.load_factor = self.load_factor();
             let step_fn = self.scheme.step;
             let state = &mut self.state;
             let result = self.pool.install(|| step_fn(state, dt, gravity));
@@ -539,6 +582,13 @@ impl Simulation {
             .collect()
     }
 
+    /// The water volume that left the saturated bodies since the start of the run, m³ per
+    /// metre (plane strain) or per radian (axisymmetric) (`solver::saturated::outflow_increment`);
+    /// `None` in a dry run.
+    pub fn water_outflow(&self) -> Option<f64> {
+        self.state.water.as_ref().map(|w| w.outflow)
+    }
+
     /// The energy budget ([`Energies`]), summed in particle order (deterministic).
     pub fn energies(&self) -> Energies {
         let p = &self.state.particles;
@@ -562,8 +612,18 @@ impl Simulation {
                 e.plastic_work += p.initial_volume[i] * p.state[i * p.state_stride + k];
             }
         }
+        if let Some(water) = &self.state.water {
+            for &i in &index {
+                let i = i as usize;
+                let w = p.water_velocity[i];
+                e.water_kinetic_energy += 0.5 * p.porosity[i] * water.density * p.volume[i] * (w[0] * w[0] + w[1] * w[1]);
+            }
+            e.drag_dissipation = water.drag_work;
+        }
         let [normal, tangential] = self.state.constraints.dissipated_energy();
         let total = self.total_factor();
+        e.water_kinetic_energy *= total;
+        e.drag_dissipation *= total;
         e.kinetic_energy *= total;
         e.gravity_work *= total;
         e.elastic_energy *= total;
@@ -582,6 +642,7 @@ impl Simulation {
             time: self.state.time,
             steps: self.state.steps,
             boundary_dissipation: self.state.constraints.dissipated_energy(),
+            water_totals: self.state.water.as_ref().map_or([0.0; 2], |w| [w.outflow, w.drag_work]),
             tiles: self.state.tiles.tiles.clone(),
         };
         serde_json::to_vec(&checkpoint).map_err(|e| format!("checkpoint: {e}"))
@@ -595,6 +656,9 @@ impl Simulation {
         }
         let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps, c.tiles)))?;
         sim.state.constraints.restored_dissipation = c.boundary_dissipation;
+        if let Some(water) = sim.state.water.as_mut() {
+            [water.outflow, water.drag_work] = c.water_totals;
+        }
         Ok(sim)
     }
 }

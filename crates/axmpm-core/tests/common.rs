@@ -40,6 +40,7 @@ pub fn block(
         walls: vec![],
         rigid_bodies: vec![],
         drainage: Default::default(),
+        surcharges: Vec::new(),
         extra: Default::default(),
     }
 }

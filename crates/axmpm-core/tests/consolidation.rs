@@ -47,6 +47,21 @@ fn terzaghi_pressure(depth: f64, tv: f64) -> f64 {
     sum
 }
 
+/// The water of every test here: n = POROSITY, conductivity `k`, bulk modulus `k_w`, LOAD on
+/// the top surface (through the loading plate when `loading_plate`).
+fn saturated(k: f64, k_w: f64, loading_plate: bool) -> SaturatedConfig {
+    SaturatedConfig {
+        porosity: POROSITY,
+        hydraulic_conductivity: k,
+        water_bulk_modulus: k_w,
+        water_density: RHO_W,
+        water_table: None,
+        pore_pressure: None,
+        surface_load: LOAD,
+        loading_plate,
+    }
+}
+
 /// A column of `cells` cells over HEIGHT, one cell wide, base fixed and impermeable, sides
 /// rollers (impermeable), top free and drained under LOAD. Axisymmetric: the column spans
 /// r = 1 … 1 + h between roller walls.
@@ -63,15 +78,7 @@ fn column_with_water(formulation: FormulationKind, cells: usize, k: f64, k_w: f6
     cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [x0 + 3.0 * h, HEIGHT + 2.0 * h], cell_size: h };
     cfg.simulation.flip_fraction = 0.99;
     let mut body = BodyConfig::rectangle("m", [x0, 0.0], [x0 + h, HEIGHT]);
-    body.saturated = Some(SaturatedConfig {
-        porosity: POROSITY,
-        hydraulic_conductivity: k,
-        water_bulk_modulus: k_w,
-        water_density: RHO_W,
-        water_table: None,
-        pore_pressure: None,
-        surface_load: LOAD,
-    });
+    body.saturated = Some(saturated(k, k_w, false));
     cfg.bodies = vec![body];
     cfg.boundaries = BoundariesConfig {
         left: BoundaryCondition::ROLLER,
@@ -206,3 +213,128 @@ fn q_undrained(k_w: f64) -> f64 {
     LOAD * (k_w / POROSITY) / (k_w / POROSITY + E_OED)
 }
 
+
+/// The settlement of the column's top surface, extrapolated linearly from the mean vertical
+/// displacements of the two top rows of particles (at H − h/4 and H − 3h/4, 2 × 2 per cell) to H.
+fn surface_settlement(sim: &Simulation, h: f64) -> f64 {
+    let p = sim.particles();
+    let row_mean = |y0: f64| {
+        let rows: Vec<f64> = (0..p.len())
+            .filter(|&i| (p.initial_position[i][1] - y0).abs() < 1e-9)
+            .map(|i| p.position[i][1] - p.initial_position[i][1])
+            .collect();
+        rows.iter().sum::<f64>() / rows.len() as f64
+    };
+    let (top, below) = (row_mean(HEIGHT - 0.25 * h), row_mean(HEIGHT - 0.75 * h));
+    -(top + 0.5 * (top - below))
+}
+
+/// Terzaghi's drag dissipation per unit area of the layer up to T_v: the Darcy dissipation
+/// ∫∫ (k/γ_w)(∂u/∂z)² dz dt of the series, m_v u₀² H Σ (1 − exp(−2M² T_v))/M², with
+/// m_v = 1/E_oed + n/K_w (the modes cos(Mz/H) are orthogonal on the layer).
+fn terzaghi_dissipation(tv: f64) -> f64 {
+    let m_v = 1.0 / E_OED + POROSITY / K_W;
+    let u0 = undrained_pressure();
+    let mut sum = 0.0;
+    for m in 0..2000 {
+        let big_m = std::f64::consts::PI * (2 * m + 1) as f64 / 2.0;
+        sum += (1.0 - (-2.0 * big_m * big_m * tv).exp()) / (big_m * big_m);
+    }
+    m_v * u0 * u0 * HEIGHT * sum
+}
+
+#[test]
+fn the_water_outflow_is_the_settlement_and_the_drag_dissipates_darcys_energy() {
+    // Outflow: the water that left the column equals its volume loss, settlement × area, up to
+    // the expansion of the water as its pressure falls (n u₀/K_w against u₀/E_oed: 0.2 % here),
+    // within 1 %. Drag: against the series' dissipation within 2 % (the series'
+    // steep early gradient at the drained top is what the mesh resolves last); 10 cells.
+    let k = 1e-3;
+    let cv = consolidation_coefficient(k);
+    let cells = 10;
+    let h = HEIGHT / cells as f64;
+    for formulation in [FormulationKind::PlaneStrain, FormulationKind::Axisymmetric] {
+        // Area per metre (plane strain) or per radian (the ring r = 1 … 1 + h).
+        let area = match formulation {
+            FormulationKind::PlaneStrain => h,
+            FormulationKind::Axisymmetric => ((1.0 + h) * (1.0 + h) - 1.0) / 2.0,
+        };
+        let mut sim = Simulation::new(column(formulation, cells, k), 1).unwrap();
+        assert_eq!(sim.water_outflow(), Some(0.0));
+        for tv in [0.2, 0.85] {
+            sim.advance(tv * HEIGHT * HEIGHT / cv, u64::MAX).unwrap();
+            let outflow = sim.water_outflow().unwrap();
+            let settled = surface_settlement(&sim, h) * area;
+            // energies() are whole-body totals (× 2π in axisymmetry); the series is per area.
+            let e = sim.energies();
+            let dissipation = e.drag_dissipation / sim.total_factor() / area;
+            println!(
+                "{formulation:?} T_v {tv}: outflow {outflow:.6e}, settlement × area {settled:.6e}, drag {dissipation:.5e} vs {:.5e}, water kinetic {:.3e}",
+                terzaghi_dissipation(tv),
+                e.water_kinetic_energy
+            );
+            assert!((outflow / settled - 1.0).abs() < 0.01, "{formulation:?} T_v {tv}: {outflow} vs {settled}");
+            assert!((dissipation / terzaghi_dissipation(tv) - 1.0).abs() < 0.02, "{formulation:?} T_v {tv}: {dissipation}");
+            assert!(e.water_kinetic_energy > 0.0, "the water flows");
+        }
+    }
+    // A dry run has no water.
+    let mut dry = column(FormulationKind::PlaneStrain, 10, k);
+    dry.bodies[0].saturated = None;
+    assert_eq!(Simulation::new(dry, 1).unwrap().water_outflow(), None);
+}
+
+#[test]
+fn the_loading_plate_carries_the_whole_load_with_a_uniform_settlement() {
+    // Mandel's quarter specimen (a = 1 m, b = 0.5 m, 10 × 5 cells, no gravity): rollers on x = 0
+    // and y = 0, the side x = a free and drained, LOAD through the plate at y = b, Cundall damping
+    // 0.2 to settle the undrained ringing. Once the water drains through the side the vertical
+    // stress varies along x, yet every horizontal section carries the plate's whole load: the
+    // mean total vertical stress σ′_yy − p of the particles is −LOAD (0.5 %), and the nodes under
+    // the plate moved down together (the surface's settlement the same along x to 1e-3 of it).
+    let (a, b, cells) = (1.0, 0.5, 10);
+    let h = a / cells as f64;
+    let k = 1e-4;
+    let mut cfg = common::block(FormulationKind::PlaneStrain, ShapeFunctionKind::Linear, [0.0, 0.0], [0.0, 0.0]);
+    cfg.materials.insert("m".into(), common::material("linear_elastic", 2650.0, E_OED, 0.0));
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [a + 2.0 * h, b + 2.0 * h], cell_size: h };
+    cfg.simulation.flip_fraction = 0.99;
+    cfg.simulation.damping = 0.2;
+    let mut body = BodyConfig::rectangle("m", [0.0, 0.0], [a, b]);
+    body.saturated = Some(saturated(k, K_W, true));
+    cfg.bodies = vec![body];
+    cfg.boundaries = BoundariesConfig {
+        left: BoundaryCondition::ROLLER,
+        right: BoundaryCondition::FREE,
+        bottom: BoundaryCondition::ROLLER,
+        top: BoundaryCondition::FREE,
+    };
+    cfg.walls = vec![];
+    let mut sim = Simulation::new(cfg, 1).unwrap();
+    // c t/a² = 0.1 (c = k/(γ_w (1/E_oed + n/K_w)), ν = 0 so E_oed = E).
+    sim.advance(0.1 * a * a / consolidation_coefficient(k), u64::MAX).unwrap();
+    let p = sim.particles();
+    let mean = (0..p.len()).map(|i| p.stress[i][1] - p.pore_pressure[i]).sum::<f64>() / p.len() as f64;
+    // The surface's settlement above each column of particles, extrapolated linearly to y = b
+    // from the two particles of the top cell (linear shape functions: displacement linear in y
+    // inside a cell): the plate's, whatever x.
+    let displacement = |x0: [f64; 2]| {
+        let i = (0..p.len()).find(|&i| (p.initial_position[i][0] - x0[0]).abs() < 1e-9 && (p.initial_position[i][1] - x0[1]).abs() < 1e-9).unwrap();
+        p.position[i][1] - p.initial_position[i][1]
+    };
+    let top: Vec<f64> = (0..2 * cells)
+        .map(|c| {
+            let x = (c as f64 + 0.5) * h / 2.0;
+            let (upper, lower) = (displacement([x, b - 0.25 * h]), displacement([x, b - 0.75 * h]));
+            upper + 0.5 * (upper - lower)
+        })
+        .collect();
+    let spread = top.iter().fold(f64::NEG_INFINITY, |m, &d| m.max(d)) - top.iter().fold(f64::INFINITY, |m, &d| m.min(d));
+    let centre = p.pore_pressure.iter().zip(&p.initial_position).filter(|(_, x)| x[0] < h).map(|(p, _)| *p).fold(0.0, f64::max);
+    let edge = p.pore_pressure.iter().zip(&p.initial_position).filter(|(_, x)| x[0] > a - h).map(|(p, _)| *p).fold(0.0, f64::max);
+    println!("mean σ_yy / q {:.5}, settlement spread {spread:.3e} m of {:.3e}, p centre {centre:.1} edge {edge:.1}", mean / LOAD, top[0]);
+    assert!((mean / LOAD + 1.0).abs() < 5e-3, "{}", mean / LOAD);
+    assert!(top[0] < 0.0 && spread < 1e-3 * top[0].abs(), "{spread} {top:?}");
+    // Drained at the side, not at the centre.
+    assert!(edge < 0.3 * centre, "{centre} {edge}");
+}

@@ -161,8 +161,9 @@ impl PySimulation {
     }
     /// The energy budget of the whole body (axisymmetric: × 2π), J: kinetic_energy,
     /// gravity_work (potential energy released), elastic_energy, plastic_work,
-    /// boundary_normal_dissipation, boundary_friction_dissipation and energy_residual
-    /// (gravity_work minus all the others: what the scheme lost).
+    /// boundary_normal_dissipation, boundary_friction_dissipation, in saturated runs
+    /// water_kinetic_energy and drag_dissipation, and energy_residual (gravity_work minus all
+    /// the others: what the scheme lost).
     fn energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let e = self.inner.energies();
         let d = PyDict::new(py);
@@ -172,8 +173,18 @@ impl PySimulation {
         d.set_item("plastic_work", e.plastic_work)?;
         d.set_item("boundary_normal_dissipation", e.boundary_normal_dissipation)?;
         d.set_item("boundary_friction_dissipation", e.boundary_friction_dissipation)?;
+        if self.inner.water_outflow().is_some() {
+            d.set_item("water_kinetic_energy", e.water_kinetic_energy)?;
+            d.set_item("drag_dissipation", e.drag_dissipation)?;
+        }
         d.set_item("energy_residual", e.residual())?;
         Ok(d)
+    }
+    /// Saturated runs: the water volume that left the saturated bodies since the start (m³ per
+    /// metre in plane strain, per radian in axisymmetry: through the drained faces and free
+    /// surfaces); None in a dry run.
+    fn water_outflow(&self) -> Option<f64> {
+        self.inner.water_outflow()
     }
     /// Per reporting constraint (faces that are not free: "left", "right", "bottom", "top";
     /// walls: "wall_0", ...), the mean force (N; axisymmetric: the whole body, × 2π; plane
@@ -181,6 +192,11 @@ impl PySimulation {
     /// [(name, force_x, force_y), ...]. Resets the accumulators.
     fn reactions(&mut self) -> Vec<(String, f64, f64)> {
         self.inner.reactions().into_iter().map(|(name, f)| (name, f[0], f[1])).collect()
+    }
+    /// Per surcharge, the force it applies to the material now (N; axisymmetric: the whole
+    /// ring; plane strain: per metre; negative y: downward): [(name, force_x, force_y), ...].
+    fn surcharge_forces(&self) -> Vec<(String, f64, f64)> {
+        self.inner.surcharge_forces().into_iter().map(|(name, f)| (name, f[0], f[1])).collect()
     }
     /// Names `reactions()` reports, in order.
     fn reaction_names(&self) -> Vec<String> {

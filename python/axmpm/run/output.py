@@ -9,11 +9,20 @@ Layout of a run folder::
     history.csv              one row per output time: time, steps, dt, energies, wall_seconds,
                              and NAME.force_x, NAME.force_y per constraint that reports a
                              reaction (faces that are not free, walls): the mean force the
-                             material exerted on it since the previous row (N; axisymmetric:
-                             whole body, plane strain: per metre); per rigid body also
+                             material exerted on it since the previous row (N; plane strain:
+                             per metre; axisymmetric: whole body, axial NAME.force_y only and
+                             NAME.radial_force_integral, the radial traction summed round
+                             the ring, in place of a force_x); per rigid body also
                              NAME.displacement_x/y (m) and the force split into
                              NAME.base_force_x/y (contact normals facing down) and
-                             NAME.shaft_force_x/y (the rest)
+                             NAME.shaft_force_x/y (the rest); per surcharge
+                             NAME.applied_force_y, the force it applies to the material
+                             (N, negative: downward); saturated runs also
+                             water_outflow (m³ per metre or radian: the water that left
+                             through drained faces and free surfaces since the start) and
+                             the energies water_kinetic_energy and drag_dissipation; per
+                             probe NAME.pore_pressure, NAME.stress_*, NAME.displacement_x/y
+                             (axmpm.run.probes)
     particles.pvd            ParaView collection of the frames with their times
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these
@@ -607,11 +616,14 @@ class Run:
     @property
     def reactions(self) -> dict[str, NDArray[np.float64]]:
         """Per constraint that reports a reaction, its force at every history row: name → (T, 2)
-        array [force_x, force_y] (N, the mean since the previous row; axisymmetric: whole body)."""
+        array [force_x, force_y] (N, the mean since the previous row; axisymmetric: whole body,
+        force_x = 0, the radial resultant of a ring; its radial traction integral is the history
+        column ``NAME.radial_force_integral``)."""
         history = self.history
-        names = [c[: -len(".force_x")] for c in history if c.endswith(".force_x")]
-        return {n: np.stack([history[f"{n}.force_x"], history[f"{n}.force_y"]], axis=1)
-                for n in names if f"{n}.force_y" in history}
+        names = [c[: -len(".force_y")] for c in history if c.endswith(".force_y")]
+        return {n: np.stack([history.get(f"{n}.force_x", np.zeros_like(history[f"{n}.force_y"])),
+                             history[f"{n}.force_y"]], axis=1)
+                for n in names}
 
     @property
     def rigid_bodies(self) -> dict[str, dict[str, NDArray[np.float64]]]:
@@ -622,7 +634,9 @@ class Run:
         names = [c[: -len(".displacement_x")] for c in history if c.endswith(".displacement_x")]
         out: dict[str, dict[str, NDArray[np.float64]]] = {}
         for n in names:
-            pair = {key: np.stack([history[f"{n}.{key}_x"], history[f"{n}.{key}_y"]], axis=1)
+            # Axisymmetric forces have no _x column: a ring's radial resultant is zero.
+            pair = {key: np.stack([history.get(f"{n}.{key}_x", np.zeros_like(history[f"{n}.{key}_y"])),
+                                   history[f"{n}.{key}_y"]], axis=1)
                     for key in ("displacement", "force", "base_force", "shaft_force") if f"{n}.{key}_y" in history}
             out[n] = pair
         return out

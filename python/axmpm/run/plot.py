@@ -33,7 +33,7 @@ __all__ = ["NAME", "add_parser", "main", "energy_columns", "history_figure", "pl
 NAME = "plot"
 
 #: Columns of history.csv that are neither an energy nor a constraint's or body's quantity.
-BOOKKEEPING = ("time", "steps", "dt", "wall_seconds")
+BOOKKEEPING = ("time", "steps", "dt", "wall_seconds", "water_outflow")
 
 
 def energy_columns(columns: Sequence[str]) -> list[str]:
@@ -83,7 +83,7 @@ def _unit(column: str, per_metre: bool) -> str:
     quantity = column.rsplit(".", 1)[-1]
     if quantity in ("time", "dt", "wall_seconds"):
         return "s"
-    if quantity.rsplit("_", 1)[0] in ("force", "base_force", "shaft_force"):
+    if quantity.rsplit("_", 1)[0] in ("force", "base_force", "shaft_force", "applied_force") or quantity == "radial_force_integral":
         return "N" + per
     if quantity.rsplit("_", 1)[0] == "displacement":
         return "m"

@@ -57,6 +57,7 @@ from .output import (
     write_pvd,
     write_text,
 )
+from .probes import probe_columns
 
 __all__ = ["run", "resume", "report_run", "THREADS_HELP", "THREADS_DEFAULT", "thread_count", "check_output_folder", "prepare_output_folder", "checkpoint_every",
            "DEFAULT_CHUNK_STEPS"]
@@ -83,29 +84,45 @@ def thread_count(text: str) -> int:
     return value
 
 
-def rigid_body_columns(sim: Any) -> dict[str, float]:
+def reaction_columns(reactions: dict[str, list[float]], axisymmetric: bool) -> dict[str, float]:
+    """History columns of the reactions: ``NAME.force_x/y`` (N, mean since the previous row).
+    Axisymmetric: the axial ``NAME.force_y`` of the whole ring, and instead of a ``force_x`` the
+    ``NAME.radial_force_integral``, 2π times the sum of the radial nodal forces: the integral of
+    the radial traction over the surface, not a resultant (a ring's radial resultant is zero)."""
+    columns: dict[str, float] = {}
+    for name, (fx, fy) in reactions.items():
+        if axisymmetric:
+            columns.update({f"{name}.force_y": fy, f"{name}.radial_force_integral": fx})
+        else:
+            columns.update({f"{name}.force_x": fx, f"{name}.force_y": fy})
+    return columns
+
+
+def rigid_body_columns(sim: Any, axisymmetric: bool = False) -> dict[str, float]:
     """History columns of the rigid bodies at the current output time: ``NAME.displacement_x/y``
     (m) and the base/shaft split of the force, ``NAME.base_force_x/y``, ``NAME.shaft_force_x/y``
     (N, mean since the previous row; base: contact with normals facing down). Their total is the
-    ``NAME.force_x/y`` column of the reactions."""
+    ``NAME.force_x/y`` column of the reactions. Axisymmetric: the axial parts ``_y`` only (a
+    ring's radial resultant is zero; see :func:`reaction_columns`)."""
     columns: dict[str, float] = {}
     parts = {name: (bx, by, sx, sy) for name, bx, by, sx, sy in sim.rigid_body_parts()}
     for name, dx, dy in sim.rigid_body_displacements():
         bx, by, sx, sy = parts[name]
-        columns.update({f"{name}.displacement_x": float(dx), f"{name}.displacement_y": float(dy),
-                        f"{name}.base_force_x": float(bx), f"{name}.base_force_y": float(by),
-                        f"{name}.shaft_force_x": float(sx), f"{name}.shaft_force_y": float(sy)})
+        columns.update({f"{name}.displacement_x": float(dx), f"{name}.displacement_y": float(dy)})
+        if not axisymmetric:
+            columns.update({f"{name}.base_force_x": float(bx), f"{name}.shaft_force_x": float(sx)})
+        columns.update({f"{name}.base_force_y": float(by), f"{name}.shaft_force_y": float(sy)})
     return columns
 
 
 def rigid_body_summary(columns: dict[str, float], reactions: dict[str, list[float]]) -> dict[str, Any]:
     """summary.json's ``rigid_bodies``: per body, the last row's displacement, force and its
-    base and shaft parts."""
+    base and shaft parts (axisymmetric: radial components 0, a ring's radial resultant)."""
     names = [c[: -len(".displacement_x")] for c in columns if c.endswith(".displacement_x")]
     return {n: {"displacement": [columns[f"{n}.displacement_x"], columns[f"{n}.displacement_y"]],
                 "force": reactions.get(n, [float("nan")] * 2),
-                "base_force": [columns[f"{n}.base_force_x"], columns[f"{n}.base_force_y"]],
-                "shaft_force": [columns[f"{n}.shaft_force_x"], columns[f"{n}.shaft_force_y"]]}
+                "base_force": [columns.get(f"{n}.base_force_x", 0.0), columns[f"{n}.base_force_y"]],
+                "shaft_force": [columns.get(f"{n}.shaft_force_x", 0.0), columns[f"{n}.shaft_force_y"]]}
             for n in names}
 
 
@@ -287,19 +304,30 @@ class _Driver:
 
     # -- pieces -------------------------------------------------------------------------
 
-    def record_history(self, time: float, steps: int) -> None:
+    def record_history(self, time: float, steps: int, frame: FrameData | None = None) -> None:
         """A history row at the current time: energies, reactions (mean forces since the
-        previous row), rigid bodies."""
+        previous row), rigid bodies, probes (from ``frame`` when given, the particles' state now)."""
         sim = self.sim
         energies = {k: float(v) for k, v in sim.energies().items()}
+        axisymmetric = self.sim_cfg.formulation == "axisymmetric"
         reactions = {name: [float(fx), float(fy)] for name, fx, fy in sim.reactions()}
-        rigid = rigid_body_columns(sim)
+        rigid = rigid_body_columns(sim, axisymmetric)
+        surcharges = {f"{name}.applied_force_y": float(fy) for name, _, fy in sim.surcharge_forces()}
+        outflow = sim.water_outflow()
+        water = {} if outflow is None else {"water_outflow": float(outflow)}
+        probes: dict[str, float] = {}
+        if self.scenario.probes:
+            probes = probe_columns(self.scenario.probes, frame or FrameData.from_simulation(sim),
+                                   self.sim_cfg.formulation, self.scenario.grid.cell_size)
         self.history.append(
             {"time": time, "steps": steps, "dt": float(sim.dt),
-             **dict(sorted(energies.items())), "wall_seconds": self.wall(),
-             **{f"{name}.force_{axis}": f[i] for name, f in reactions.items() for i, axis in enumerate("xy")},
-             **rigid}
+             **dict(sorted(energies.items())), **water, "wall_seconds": self.wall(),
+             **reaction_columns(reactions, axisymmetric),
+             **rigid, **surcharges, **probes}
         )
+        if axisymmetric:
+            # The radial resultant of a ring is zero; the radial sum is reported apart.
+            reactions = {name: [0.0, f[1]] for name, f in reactions.items()}
         self.summary["energies"] = energies
         self.summary["reactions"] = reactions
         if rigid:
@@ -318,7 +346,7 @@ class _Driver:
                 remove_frames_from(out, index)  # an incomplete frame is not kept
             raise
         self.pvd_entries.append((frame.time, vtu))  # complete: its files and the pvd entry
-        self.record_history(frame.time, frame.steps)
+        self.record_history(frame.time, frame.steps, frame)
 
     def snapshot(self, k: int) -> None:
         """Keep the engine state of output ``k`` in memory: the last good restart point."""

@@ -8,9 +8,10 @@ The keys every body has are here (:class:`BodyHead`, :class:`BodyKeys`); the reg
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import Field
+from pydantic import BeforeValidator, Field, ValidationError
+from pydantic_core import PydanticCustomError
 
 from .fields import GRID_TOLERANCE, NonNegative, Section, Vec2, bounded, fmt
 from .saturated import Saturated
@@ -33,6 +34,51 @@ class BodyHead(Section):
     material: str
 
 
+class VerticalHorizontalStress(Section):
+    """``initial_stress = { vertical = ..., horizontal = ... }``: a uniform stress, Pa, tension
+    positive (compression negative): σ_yy = vertical, σ_xx = σ_zz (σ_θθ) = horizontal, no shear."""
+
+    vertical: float = Field(description="Pa, tension positive: sigma_yy")
+    horizontal: float = Field(description="Pa, tension positive: sigma_xx and the out-of-plane (hoop) component")
+
+
+class StressComponents(Section):
+    """``initial_stress = { xx = ..., yy = ..., zz = ..., xy = ... }``: a uniform stress, Pa,
+    tension positive; axisymmetric: xx = rr, yy = zz (axial), zz = θθ (hoop), xy = rz."""
+
+    xx: float = Field(description="Pa, tension positive")
+    yy: float = Field(description="Pa, tension positive")
+    zz: float = Field(description="Pa, tension positive: out of plane (hoop in axisymmetry)")
+    xy: float = Field(0.0, description="Pa")
+
+
+_STRESS_FORMS = '"zero", "geostatic", { vertical = ..., horizontal = ... } or { xx = ..., yy = ..., zz = ..., xy = ... } (Pa)'
+
+
+def _initial_stress(value: Any) -> Any:
+    """One message for every wrong form, instead of one per member of the union."""
+    if value in ("zero", "geostatic") or isinstance(value, (VerticalHorizontalStress, StressComponents)):
+        return value
+    if isinstance(value, dict):
+        form = VerticalHorizontalStress if {"vertical", "horizontal"} & set(value) else StressComponents
+        try:
+            return form.model_validate(value)
+        except ValidationError as e:
+            problem = "; ".join(f"{'.'.join(map(str, err['loc']))}: {err['msg']}" for err in e.errors())
+            raise PydanticCustomError("initial_stress", "must be {forms}: {problem} (got {value})",
+                                      {"forms": _STRESS_FORMS, "problem": problem, "value": repr(value)}) from None
+    raise PydanticCustomError("initial_stress", "must be {forms} (got {value})",
+                              {"forms": _STRESS_FORMS, "value": repr(value)})
+
+
+InitialStress = Annotated[Any, BeforeValidator(_initial_stress), Field(json_schema_extra={"anyOf": [
+    {"enum": ["zero", "geostatic"]},
+    {"type": "object", "properties": {"vertical": {"type": "number"}, "horizontal": {"type": "number"}},
+     "required": ["vertical", "horizontal"], "additionalProperties": False},
+    {"type": "object", "properties": {k: {"type": "number"} for k in ("xx", "yy", "zz", "xy")},
+     "required": ["xx", "yy", "zz"], "additionalProperties": False}]})]
+
+
 class BodyKeys(Section):
     """The keys of every body after its region's."""
 
@@ -40,7 +86,12 @@ class BodyKeys(Section):
         2, description="per direction"
     )
     velocity: Vec2 = Field((0.0, 0.0), description="m/s")
-    initial_stress: Literal["zero", "geostatic"] = "zero"
+    initial_stress: InitialStress = Field(
+        "zero",
+        description='"zero"; "geostatic" (sigma_v from the weight of all material above and the '
+        "surcharges, sigma_h = k0 sigma_v; needs gravity); or a uniform stress in Pa, tension positive: "
+        "{ vertical = ..., horizontal = ... } or { xx = ..., yy = ..., zz = ..., xy = ... }",
+    )
     k0: NonNegative | None = Field(  # type: ignore[valid-type]
         None,
         description="lateral earth pressure ratio; resolved default: the material model's "

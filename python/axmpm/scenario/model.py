@@ -27,8 +27,10 @@ from .materials import engine_key_errors, material_type
 from .messages import convert_errors
 from .regions import body_type
 from .rigid_bodies import FACE_NAMES, RigidBody, rigid_body_errors
+from .probes import Probe, probe_errors
 from .saturated import Drainage, saturated_errors
 from .sections import Grid, Simulation
+from .surcharges import Surcharge, surcharge_errors
 
 __all__ = ["Scenario", "Material", "Body", "schema_json"]
 
@@ -49,6 +51,8 @@ class Scenario(Section):
     walls: list[Wall] = Field(default_factory=list)
     rigid_bodies: list[RigidBody] = Field(default_factory=list)
     drainage: Drainage = Field(default_factory=Drainage)
+    surcharges: list[Surcharge] = Field(default_factory=list)
+    probes: list[Probe] = Field(default_factory=list)
 
     @model_validator(mode="after")
     def _cross_check(self) -> "Scenario":
@@ -138,7 +142,7 @@ def schema_json(indent: int = 2) -> str:
 def _cross_check(s: Scenario) -> list[tuple[str, str]]:
     return cross_check_parts(
         s.simulation, s.grid, dict(s.materials), list(s.materials), list(s.bodies), s.boundaries, list(s.walls),
-        list(s.rigid_bodies),
+        list(s.rigid_bodies), list(s.surcharges), list(s.probes),
     )
 
 
@@ -174,6 +178,8 @@ def cross_check_parts(
     boundaries: Boundaries | None,
     walls: list[Wall | None] | None,
     rigid_bodies: list[RigidBody | None] | None = None,
+    surcharges: list[Surcharge | None] | None = None,
+    probes: list[Probe | None] | None = None,
 ) -> list[tuple[str, str]]:
     """Cross checks between sections. ``None`` stands for a part that failed its own field
     checks (or a whole section that did): the checks needing it are skipped, so that this can
@@ -224,6 +230,13 @@ def cross_check_parts(
                     errors.append((f"{key}.name", f"duplicate body name {body.name!r}"))
                 seen_names.add(body.name)
             errors.extend(body.region_errors(key, frame))
+        if sim is not None:
+            for i, body in enumerate(bodies):
+                if body is not None and body.initial_stress == "geostatic" and not sim.gravity[1] < 0.0:
+                    errors.append((f"bodies.{i}.initial_stress",
+                                   f'"geostatic" needs gravity pointing down (simulation.gravity[1] < 0, got '
+                                   f"{fmt(sim.gravity[1])}); for weightless soil give the stress: initial_stress = "
+                                   "{ vertical = ..., horizontal = ... } (Pa, tension positive)"))
         errors.extend(overlaps(bodies, grid.cell_size if grid is not None else None))
         errors.extend(saturated_errors(bodies, grid if grid_ok else None))
 
@@ -254,6 +267,11 @@ def cross_check_parts(
         taken = set(FACE_NAMES) | {f"wall_{i}" for i in range(len(walls or []))}
         axisymmetric = None if sim is None else sim.formulation == "axisymmetric"
         errors.extend(rigid_body_errors(rigid_bodies, frame, axisymmetric, taken))
+    if surcharges:
+        taken = set(FACE_NAMES) | {f"wall_{i}" for i in range(len(walls or []))}
+        taken |= {b.name for b in rigid_bodies or [] if b is not None and b.name is not None}
+        errors.extend(surcharge_errors(surcharges, frame, taken))
+    errors.extend(probe_errors(probes, grid if grid_ok else None))
     return errors
 
 
@@ -293,7 +311,12 @@ def _partial_cross_check(data: dict[str, Any]) -> list[tuple[str, str]]:
     walls = [_validate_part(Wall, w) for w in raw_walls] if isinstance(raw_walls, list) else None
     raw_rigid = data.get("rigid_bodies", [])
     rigid = [_validate_part(RigidBody, b) for b in raw_rigid] if isinstance(raw_rigid, list) else None
-    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid)
+    raw_surcharges = data.get("surcharges", [])
+    surcharges = ([_validate_part(Surcharge, c) for c in raw_surcharges] if isinstance(raw_surcharges, list)
+                  else None)
+    raw_probes = data.get("probes", [])
+    probes = [_validate_part(Probe, p) for p in raw_probes] if isinstance(raw_probes, list) else None
+    return cross_check_parts(sim, grid, materials, names, bodies, boundaries, walls, rigid, surcharges, probes)
 
 
 def _merge_errors(field: list[tuple[str, str]], cross: list[tuple[str, str]]) -> list[tuple[str, str]]:
@@ -309,6 +332,9 @@ def _merge_errors(field: list[tuple[str, str]], cross: list[tuple[str, str]]) ->
 
 def _resolve_defaults(s: Scenario) -> None:
     """Fill in defaults that depend on other sections: body names, and k0 (the material model's)."""
+    for i, surcharge in enumerate(s.surcharges):
+        if surcharge.name is None:
+            surcharge.name = f"surcharge_{i}"
     for i, body in enumerate(s.bodies):
         if body.name is None:
             body.name = f"body_{i}"

@@ -10,7 +10,7 @@ from typing import Any, Literal
 
 from pydantic import Field
 
-from .fields import NonNegative, Positive, Section, bounded, fmt
+from .fields import NonNegative, Positive, Section, bounded, fmt, on_grid_line
 
 __all__ = ["Saturated", "Drainage", "saturated_errors"]
 
@@ -34,6 +34,10 @@ class Saturated(Section):
     )
     surface_load: NonNegative = Field(  # type: ignore[valid-type]
         0.0, description="Pa, a uniform pressure on the body's top surface from t = 0 on"
+    )
+    loading_plate: bool = Field(
+        False, description="the surface_load acts through a rigid, frictionless, impermeable plate: the nodes "
+                           "of the grid row at the body's top (which must lie on a grid line) move down together"
     )
 
 
@@ -66,6 +70,14 @@ def saturated_errors(bodies: list[Any] | None, grid: Any) -> list[tuple[str, str
             if not lo <= s.water_table <= hi:
                 errors.append((f"{key}.water_table",
                                f"must lie inside the grid, in [{fmt(lo)}, {fmt(hi)}] (got {fmt(s.water_table)})"))
+        if s.loading_plate and s.surface_load <= 0.0:
+            errors.append((f"{key}.loading_plate", "the plate carries the surface_load: give a surface_load > 0"))
+        if s.loading_plate and grid is not None:
+            box = body.bounding_box()
+            if box is not None and not on_grid_line(box[1][1], grid.origin[1], grid.cell_size):
+                errors.append((f"{key}.loading_plate",
+                               f"the body's top ({fmt(box[1][1])}) must lie on a grid line (multiples of "
+                               f"{fmt(grid.cell_size)} m from {fmt(grid.origin[1])})"))
         if s.water_table is not None and s.pore_pressure is not None:
             errors.append((f"{key}.pore_pressure", "give either water_table or pore_pressure, not both"))
         this = (s.water_bulk_modulus, s.water_density)

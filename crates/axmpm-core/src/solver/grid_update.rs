@@ -52,16 +52,21 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
                 update_node(&params, dt, v, v_new, m, p, f);
             }
         });
-    // Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
-    // field; rigid bodies excepted, see `constraint/rigid_body.rs`), then on v⁺: that
-    // correction is the physical one, recorded as the reaction.
+    constrain_velocities(state, dt);
+}
+
+/// Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
+/// field; rigid bodies excepted, see `constraint/rigid_body.rs`), then on v⁺: that correction
+/// is the physical one, recorded as the reaction (shared with the saturated pass).
+pub(super) fn constrain_velocities(state: &mut State, dt: f64) {
     let serial_start = std::time::Instant::now();
+    let fields = &mut state.fields;
     let context = NodalContext {
         grid: &state.grid,
         mass: &fields.mass,
         time: state.time,
         dt,
-        axisymmetric: params.axisymmetric,
+        axisymmetric: state.parameters.axisymmetric,
     };
     state.constraints.apply_start_of_step(&context, &mut fields.velocity);
     state.constraints.apply(&context, &mut fields.velocity_new, true);
@@ -76,9 +81,7 @@ fn update_node(params: &super::StepParameters, dt: f64, v: &mut [f64; 2], v_new:
         let v0 = [p[0] / m, p[1] / m];
         let mut a = [0.0; 2];
         for d in 0..2 {
-            // Cundall local damping: the unbalanced force is reduced by α|f| against the motion.
-            let damped = f[d] - params.damping * f[d].abs() * sign(v0[d]);
-            a[d] = damped / m;
+            a[d] = damped(f[d], params.damping, v0[d]) / m;
         }
         *v = v0;
         *v_new = [v0[0] + dt * a[0], v0[1] + dt * a[1]];
@@ -95,9 +98,16 @@ fn update_node(params: &super::StepParameters, dt: f64, v: &mut [f64; 2], v_new:
     }
 }
 
-/// The sign of `x` (0 at ±0), shared with the saturated pass.
+/// Cundall local damping: the unbalanced force `force` reduced by `damping` × its magnitude
+/// against the motion `velocity` (shared with the saturated pass).
 #[inline(always)]
-pub(super) fn sign(x: f64) -> f64 {
+pub(super) fn damped(force: f64, damping: f64, velocity: f64) -> f64 {
+    force - damping * force.abs() * sign(velocity)
+}
+
+/// The sign of `x` (0 at ±0).
+#[inline(always)]
+fn sign(x: f64) -> f64 {
     if x > 0.0 {
         1.0
     } else if x < 0.0 {

@@ -28,6 +28,7 @@ pub mod isa;
 pub mod particle_to_grid;
 pub mod particle_update;
 pub mod saturated;
+pub mod surface_load;
 pub mod tiles;
 
 pub use isa::Isa;
@@ -96,6 +97,8 @@ pub struct State {
     pub timings: PhaseTimings,
     /// The pore water's nodal fields and scratch (saturated runs only, [`saturated`]).
     pub water: Option<Box<saturated::WaterState>>,
+    /// The share of the surface loads applied in this step (the gravity ramp, 0..1).
+    pub load_factor: f64,
 }
 
 /// Wall-clock seconds per phase of the step (for `axmpm bench`).
@@ -115,7 +118,8 @@ pub struct PhaseTimings {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Failure {
     NotFinite { particle: usize },
-    LeftGrid { particle: usize, position: [f64; 2] },
+    /// Outside the grid (or on/behind the axis in axisymmetry) with the velocity it had.
+    LeftGrid { particle: usize, position: [f64; 2], velocity: [f64; 2] },
     InvertedJacobian { particle: usize, jacobian: f64 },
 }
 
@@ -133,7 +137,9 @@ impl Failure {
         let id = |p: usize| ids.get(p).map_or(p, |&id| id as usize);
         match self {
             Failure::NotFinite { particle } => Failure::NotFinite { particle: id(particle) },
-            Failure::LeftGrid { particle, position } => Failure::LeftGrid { particle: id(particle), position },
+            Failure::LeftGrid { particle, position, velocity } => {
+                Failure::LeftGrid { particle: id(particle), position, velocity }
+            }
             Failure::InvertedJacobian { particle, jacobian } => {
                 Failure::InvertedJacobian { particle: id(particle), jacobian }
             }
@@ -145,10 +151,21 @@ impl Failure {
             Failure::NotFinite { particle } => {
                 format!("particle {particle}: position, velocity or stress is not finite (NaN or infinite)")
             }
-            Failure::LeftGrid { particle, position } => format!(
-                "particle {particle} left the grid at ({:.6e}, {:.6e}): material flowed out or separated (enlarge grid.extent if the motion is real)",
-                position[0], position[1]
-            ),
+            Failure::LeftGrid { particle, position, velocity } => {
+                // A real outflow moves at the problem's own speeds; a particle flung out at
+                // many times them is the signature of an instability (time step, FLIP noise,
+                // a contact or boundary that pulls material along), not of a small grid.
+                let speed = velocity[0].hypot(velocity[1]);
+                format!(
+                    "particle {particle} left the grid at ({:.6e}, {:.6e}) m moving at {speed:.3e} m/s \
+                     (v = ({:.3e}, {:.3e}) m/s). If that speed is far above the speeds of the \
+                     problem (loading rates, wave or free-fall speeds), the run is unstable: \
+                     lower simulation.cfl or simulation.flip_fraction, and check the contacts and \
+                     boundary conditions near that point. If the motion is real (material \
+                     flowing out), enlarge grid.extent.",
+                    position[0], position[1], velocity[0], velocity[1]
+                )
+            }
             Failure::InvertedJacobian { particle, jacobian } => {
                 format!("particle {particle}: deformation gradient inverted (J = {jacobian:.3e})")
             }
@@ -192,21 +209,42 @@ impl State {
 /// Advances the state by `dt` with body force `gravity`. Returns the first invalid particle, if
 /// any (the state is then left as computed, for inspection).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
+    run_passes::<S>(
+        state,
+        dt,
+        // m_i, p_i and f_i = f_int + f_ext from the particles.
+        |state, cache| particle_to_grid::particle_to_grid::<F, S>(state, gravity, cache),
+        // a_i = (f_int + f_ext)_i / m_i, v⁺_i = v_i + Δt a_i, constrained.
+        |state| grid_update::update_grid(state, dt),
+        // v_p and Δx_p from v⁺ (FLIP/PIC); MUSL: momentum re-mapped, velocities constrained.
+        |state, cache| grid_to_particle::grid_to_particle::<F, S>(state, dt, cache),
+        // L_p, F_p, V_p, σ_p, x_p.
+        |state, cache| particle_update::update_particles::<F, S>(state, dt, cache),
+    )
+}
+
+/// The four passes of one step (the dry ones of [`step`] or the saturated ones), with what
+/// every step shares: the sort when due, the stencil cache, the time of each phase, the clock.
+#[inline(always)]
+pub(super) fn run_passes<S: ShapeFunction>(
+    state: &mut State,
+    dt: f64,
+    scatter: impl FnOnce(&mut State, &mut [S::Cache]),
+    grid: impl FnOnce(&mut State),
+    gather: impl FnOnce(&mut State, &[S::Cache]),
+    update: impl FnOnce(&mut State, &[S::Cache]) -> Result<(), Failure>,
+) -> Result<(), Failure> {
     let t0 = std::time::Instant::now();
     // Counted in particle → grid's time: the sort is there for the scatter.
     state.sort_if_due();
     let mut cache = take_stencil_cache::<S>(state);
-    // m_i, p_i and f_i = f_int + f_ext from the particles.
-    particle_to_grid::particle_to_grid::<F, S>(state, gravity, &mut cache);
+    scatter(state, &mut cache);
     let t1 = std::time::Instant::now();
-    // a_i = (f_int + f_ext)_i / m_i, v⁺_i = v_i + Δt a_i, constrained.
-    grid_update::update_grid(state, dt);
+    grid(state);
     let t2 = std::time::Instant::now();
-    // v_p and Δx_p from v⁺ (FLIP/PIC); MUSL: momentum re-mapped, velocities constrained.
-    grid_to_particle::grid_to_particle::<F, S>(state, dt, &cache);
+    gather(state, &cache);
     let t3 = std::time::Instant::now();
-    // L_p, F_p, V_p, σ_p, x_p.
-    let result = particle_update::update_particles::<F, S>(state, dt, &cache);
+    let result = update(state, &cache);
     let t4 = std::time::Instant::now();
     state.scratch.stencil_cache = Some(Box::new(cache));
     state.timings.particle_to_grid += (t1 - t0).as_secs_f64();
@@ -235,3 +273,26 @@ fn take_stencil_cache<S: ShapeFunction>(state: &mut State) -> Vec<S::Cache> {
     }
 }
 
+
+#[cfg(test)]
+mod tests {
+    use super::Failure;
+
+    /// The left-grid message names the particle's id, where it left, its speed and velocity,
+    /// and both causes (an instability: the time step and FLIP keys; a real outflow: the extent).
+    #[test]
+    fn the_left_grid_message_names_the_speed_and_the_likely_causes() {
+        let failure = Failure::LeftGrid { particle: 3, position: [1.5, -0.25], velocity: [3.0, -4.0] };
+        let message = failure.with_id(&[10, 11, 12, 42]).message();
+        for part in [
+            "particle 42 left the grid at (1.500000e0, -2.500000e-1) m",
+            "moving at 5.000e0 m/s",
+            "v = (3.000e0, -4.000e0) m/s",
+            "simulation.cfl",
+            "simulation.flip_fraction",
+            "grid.extent",
+        ] {
+            assert!(message.contains(part), "{part:?} not in {message}");
+        }
+    }
+}

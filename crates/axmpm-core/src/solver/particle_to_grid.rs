@@ -3,9 +3,7 @@
 //! f_int = −Σ_p V_p σ_p·∇S_ip (plus the hoop term −V_p σ_θθ S_ip / R_p in axisymmetry) and
 //! f_ext = Σ_p S_ip m_p g.
 
-use rayon::prelude::*;
-
-use super::tiles::{inside, zero_box, Shared, TileReach, COLOURS};
+use super::tiles::{inside, scatter_by_colour, zero_box, Shared, TileReach};
 use super::State;
 use crate::formulation::Formulation;
 use crate::grid::{GridGeometry, NodeBox};
@@ -40,33 +38,22 @@ pub(super) fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut Sta
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
     let isa = state.parameters.isa;
-    let mut serial = std::time::Duration::ZERO;
-    for c in 0..COLOURS {
-        let range = order.colour(c);
-        order.tiles[range.clone()].par_iter().zip(order.reach[range.clone()].par_iter_mut()).for_each(|(tile, reach)| {
-            // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only
-            // to nodes inside its zone, and zones of one colour are disjoint.
-            let cache = unsafe { caches.slice(tile.range()) };
-            *reach = isa.run(
-                #[inline(always)]
-                || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, false) },
-            );
-        });
-        // The particles that left their tile's zone, on this thread, in array order.
+    let (mut reached, mut serial) = scatter_by_colour(order, |tile, overflow| {
+        // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only to
+        // nodes inside its zone, and zones of one colour are disjoint; the overflow pass runs
+        // alone.
+        let cache = unsafe { caches.slice(tile.range()) };
+        isa.run(
+            #[inline(always)]
+            || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, overflow) },
+        )
+    });
+    if !particles.external_force.is_empty() {
         let serial_start = std::time::Instant::now();
-        for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
-            if reach.overflow {
-                // SAFETY: nothing else runs now.
-                let cache = unsafe { caches.slice(tile.range()) };
-                isa.run(
-                    #[inline(always)]
-                    || unsafe { scatter::<F, S>(&grid, gravity, particles, tile.range(), tile.zone(), cache, targets, true) },
-                );
-            }
-        }
+        let loads = super::surface_load::add_surface_loads(&grid, particles, state.load_factor, &mut state.fields.force);
+        reached = reached.union(loads);
         serial += serial_start.elapsed();
     }
-    let reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
     state.scratch.grid_region = reached.union(previous);
     state.scratch.grid_reached = reached;
     state.timings.serial += serial.as_secs_f64();

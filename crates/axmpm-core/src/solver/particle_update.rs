@@ -174,7 +174,7 @@ fn check_particle<F: Formulation>(
     if !finite {
         Some(Failure::NotFinite { particle: p })
     } else if !(bounds.contains(x) & (!F::AXISYMMETRIC | (x[0] > 0.0))) {
-        Some(Failure::LeftGrid { particle: p, position: x })
+        Some(Failure::LeftGrid { particle: p, position: x, velocity: v })
     } else if !(jacobian > 0.0) {
         Some(Failure::InvertedJacobian { particle: p, jacobian })
     } else {
@@ -527,7 +527,7 @@ mod tests {
         let nan_stress = [f64::NAN, 0.0, 0.0, 0.0];
         let not_finite = Some(Failure::NotFinite { particle: 7 });
         assert_eq!(check::<PlaneStrain>(&grid, [3.0, 0.0], nan_stress, v, -1.0), not_finite);
-        let off = Some(Failure::LeftGrid { particle: 7, position: [3.0, 0.0] });
+        let off = Some(Failure::LeftGrid { particle: 7, position: [3.0, 0.0], velocity: v });
         assert_eq!(check::<PlaneStrain>(&grid, [3.0, 0.0], s, v, -1.0), off);
         // The closed box: every edge and corner is inside, one ulp beyond is not.
         let (up, down) = (f64::next_up, f64::next_down);
@@ -535,10 +535,10 @@ mod tests {
             assert_eq!(check::<PlaneStrain>(&grid, p, s, v, j), None, "{p:?}");
         }
         for p in [[down(0.0), 0.0], [up(2.0), 0.0], [1.0, down(-1.0)], [1.0, up(1.0)], [-5.0, 5.0], [5.0, -5.0]] {
-            assert_eq!(check::<PlaneStrain>(&grid, p, s, v, j), Some(Failure::LeftGrid { particle: 7, position: p }));
+            assert_eq!(check::<PlaneStrain>(&grid, p, s, v, j), Some(Failure::LeftGrid { particle: 7, position: p, velocity: v }));
         }
         // Axisymmetry: r = 0 (on the axis) is off the grid, r > 0 inside is not.
-        let left_at = |position| Some(Failure::LeftGrid { particle: 7, position });
+        let left_at = |position| Some(Failure::LeftGrid { particle: 7, position, velocity: v });
         assert_eq!(check::<Axisymmetric>(&grid, [0.0, 0.5], s, v, j), left_at([0.0, 0.5]));
         assert_eq!(check::<Axisymmetric>(&grid, [1e-12, 0.5], s, v, j), None);
         assert_eq!(check::<Axisymmetric>(&grid, [2.0, 0.5], s, v, j), None);
@@ -827,7 +827,7 @@ mod tests {
         assert_eq!(run(&c), Some(Failure::NotFinite { particle: first + 40 }));
         c.velocity[first + 40] = c0.velocity[first + 40];
         let x = [c0.position[45][0] + 2.0, c0.position[45][1] + 0.0];
-        assert_eq!(run(&c), Some(Failure::LeftGrid { particle: first + 45, position: x }));
+        assert_eq!(run(&c), Some(Failure::LeftGrid { particle: first + 45, position: x, velocity: c.velocity[first + 45] }));
         c.displacement[first + 45] = c0.displacement[first + 45];
         let got = run(&c);
         let inverted_at = |got: Option<Failure>, p: usize| {

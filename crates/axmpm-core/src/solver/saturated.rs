@@ -29,16 +29,20 @@
 //! over the particles of each background cell (the cell-centre volumetric rate, as the mean
 //! dilatation does for the solid), which keeps the pressure field free of checkerboards.
 //!
+//! A loading plate (`loading_plate`: the surface load through a rigid, frictionless,
+//! impermeable plate, as in Mandel's problem) makes the nodes of the grid row at the loaded
+//! surface move vertically together, with the water's vertical velocity held to the solid's
+//! there ([`move_plate`]).
+//!
 //! A run without a saturated body never enters this module (`Simulation` selects the dry
 //! step), so dry results are unchanged bit for bit.
 
 use rayon::prelude::*;
 
-use super::grid_update::sign;
-use super::tiles::{inside, zero_box, Shared, TileReach, COLOURS};
+use super::grid_update::{constrain_velocities, damped};
+use super::tiles::{inside, scatter_by_colour, zero_box, Shared, TileReach};
 use super::{Failure, State};
 use crate::config::{BoundariesConfig, Condition, Config, Drainage, DrainageConfig, FormulationKind, Side, WallConfig};
-use crate::constraint::NodalContext;
 use crate::formulation::Formulation;
 use crate::grid::{GridGeometry, NodeBox};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
@@ -121,6 +125,13 @@ pub struct WaterState {
     /// Per background cell: Σ V and Σ V e of the saturated particles (pressure averaging).
     pub cell_volume: Vec<f64>,
     pub cell_storage: Vec<f64>,
+    /// Since the start of the run, per metre (plane strain) or per radian (axisymmetric): the
+    /// water volume that left the saturated bodies ([`outflow_increment`]), m³, and the work
+    /// of the drag on the relative flow ([`drag_work`]), J.
+    pub outflow: f64,
+    pub drag_work: f64,
+    /// The grid row of the loading plate's nodes (`None`: no plate).
+    pub plate_row: Option<usize>,
 }
 
 impl WaterState {
@@ -133,6 +144,11 @@ impl WaterState {
         let saturated: Vec<f64> = (0..n).filter(|&p| particles.porosity[p] > 0.0).map(|p| density * particles.volume[p]).collect();
         let mean = saturated.iter().sum::<f64>() / saturated.len().max(1) as f64;
         let axisymmetric = config.simulation.formulation == FormulationKind::Axisymmetric;
+        let plate = plate_row(config, grid, particles);
+        let mut impermeable = impermeable_nodes(grid, &config.boundaries, &config.drainage, &config.walls, axisymmetric);
+        if let Some(row) = plate {
+            impermeable.extend((0..grid.nodes[0]).map(|i| (grid.node_index(i, row) as u32, 1)));
+        }
         Some(Box::new(Self {
             bulk_modulus,
             density,
@@ -144,14 +160,34 @@ impl WaterState {
             force: vec![[0.0; 2]; nodes],
             velocity: vec![[0.0; 2]; nodes],
             velocity_new: vec![[0.0; 2]; nodes],
-            impermeable: impermeable_nodes(grid, &config.boundaries, &config.drainage, &config.walls, axisymmetric),
+            impermeable,
             loaded: particles.external_force.iter().any(|f| *f != [0.0; 2]),
             water_dilatation: vec![0.0; n],
             volume_before: vec![0.0; n],
             cell_volume: vec![0.0; cells],
             cell_storage: vec![0.0; cells],
+            outflow: 0.0,
+            drag_work: 0.0,
+            plate_row: plate,
         }))
     }
+}
+
+/// The grid row of the loading plate: the row nearest the highest loaded surface (the upper
+/// edges of the particles that carry a surface load), when some body asks for a plate.
+fn plate_row(config: &Config, grid: &GridGeometry, particles: &Particles) -> Option<usize> {
+    if !config.bodies.iter().any(|b| b.saturated.as_ref().is_some_and(|s| s.loading_plate)) {
+        return None;
+    }
+    let top = (0..particles.len())
+        .filter(|&p| particles.external_force[p] != [0.0; 2])
+        .map(|p| particles.position[p][1] + particles.initial_half_width[p][1])
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !top.is_finite() {
+        return None;
+    }
+    let row = ((top - grid.origin[1]) / grid.cell_size).round();
+    Some(row.clamp(0.0, (grid.nodes[1] - 1) as f64) as usize)
 }
 
 /// The (node, direction) pairs where no water crosses: impermeable faces (and the nodes of
@@ -230,6 +266,17 @@ pub fn pressure_increment(k_w: f64, n: f64, storage_strain: f64) -> f64 {
     -k_w / n * storage_strain
 }
 
+/// The water volume that left a saturated particle over one step: its pore volume nV shrank
+/// by ΔV (the grains are incompressible, so Δ(nV) = ΔV) and its water expanded by
+/// −nV Δp/K_w = V e ([`pressure_increment`]), so −ΔV + V e of water went out. Summed over the
+/// particles, only the flow across the bodies' surface remains (Gauss): the outflow through
+/// the drained faces and free surfaces. `volume` is the particle's volume at the end of the
+/// step, `storage_strain` its cell's e.
+#[inline(always)]
+pub fn outflow_increment(volume_before: f64, volume: f64, storage_strain: f64) -> f64 {
+    volume * storage_strain - (volume - volume_before)
+}
+
 /// Porosity after the skeleton's volume went from `v_old` to `v_new` with incompressible
 /// grains: the solid volume (1 − n) V is conserved.
 #[inline(always)]
@@ -240,31 +287,23 @@ pub fn updated_porosity(n: f64, v_old: f64, v_new: f64) -> f64 {
 /// Advances a saturated run by `dt` (the dry step's passes, with the water added; see the
 /// module doc and `solver::step`).
 pub fn step<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, gravity: [f64; 2]) -> Result<(), Failure> {
-    let t0 = std::time::Instant::now();
-    state.sort_if_due();
-    let mut cache = super::take_stencil_cache::<S>(state);
-    particle_to_grid::<F, S>(state, gravity, &mut cache);
-    let t1 = std::time::Instant::now();
-    update_grid(state, dt);
-    let t2 = std::time::Instant::now();
-    super::grid_to_particle::grid_to_particle::<F, S>(state, dt, &cache);
-    water_to_particles::<F, S>(state, dt, &cache);
-    let t3 = std::time::Instant::now();
-    {
-        let water = state.water.as_mut().expect("a saturated run has its water");
-        water.volume_before.copy_from_slice(&state.particles.volume);
-    }
-    let result = super::particle_update::update_particles::<F, S>(state, dt, &cache);
-    let pressure = update_pore_pressure(state);
-    let t4 = std::time::Instant::now();
-    state.scratch.stencil_cache = Some(Box::new(cache));
-    state.timings.particle_to_grid += (t1 - t0).as_secs_f64();
-    state.timings.grid_update += (t2 - t1).as_secs_f64();
-    state.timings.grid_to_particle += (t3 - t2).as_secs_f64();
-    state.timings.constitutive_update += (t4 - t3).as_secs_f64();
-    state.time += dt;
-    state.steps += 1;
-    super::first_failure(result.err(), pressure.err()).map_or(Ok(()), Err)
+    super::run_passes::<S>(
+        state,
+        dt,
+        |state, cache| particle_to_grid::<F, S>(state, gravity, cache),
+        |state| update_grid(state, dt),
+        |state, cache| {
+            super::grid_to_particle::grid_to_particle::<F, S>(state, dt, cache);
+            water_to_particles::<F, S>(state, dt, cache);
+        },
+        |state, cache| {
+            let water = state.water.as_mut().expect("a saturated run has its water");
+            water.volume_before.copy_from_slice(&state.particles.volume);
+            let result = super::particle_update::update_particles::<F, S>(state, dt, cache);
+            let pressure = update_pore_pressure(state);
+            super::first_failure(result.err(), pressure.err()).map_or(Ok(()), Err)
+        },
+    )
 }
 
 /// The nodal fields the saturated particle → grid adds to (shared by the tiles of one colour).
@@ -309,29 +348,14 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let particles = &state.particles;
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
-    let mut serial = std::time::Duration::ZERO;
-    for c in 0..COLOURS {
-        let range = order.colour(c);
-        order.tiles[range.clone()].par_iter().zip(order.reach[range.clone()].par_iter_mut()).for_each(|(tile, reach)| {
-            // SAFETY: tiles are disjoint particle ranges; within a colour, a tile writes only
-            // to nodes inside its zone, and zones of one colour are disjoint.
-            let cache = unsafe { caches.slice(tile.range()) };
-            *reach = unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, false) };
-        });
-        let serial_start = std::time::Instant::now();
-        for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
-            if reach.overflow {
-                // SAFETY: nothing else runs now.
-                let cache = unsafe { caches.slice(tile.range()) };
-                unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, true) };
-            }
-        }
-        serial += serial_start.elapsed();
-    }
-    let mut reached = order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached));
+    let (mut reached, mut serial) = scatter_by_colour(order, |tile, overflow| {
+        // SAFETY: as in the dry `particle_to_grid` (disjoint tiles and zones of one colour).
+        let cache = unsafe { caches.slice(tile.range()) };
+        unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, overflow) }
+    });
     if water.loaded {
         let serial_start = std::time::Instant::now();
-        reached = reached.union(add_surface_loads(&grid, particles, &mut state.fields.force));
+        reached = reached.union(super::surface_load::add_surface_loads(&grid, particles, state.load_factor, &mut state.fields.force));
         serial += serial_start.elapsed();
     }
     state.scratch.grid_region = reached.union(previous);
@@ -422,35 +446,6 @@ unsafe fn scatter<F: Formulation, S: ShapeFunction>(
     reach
 }
 
-/// Adds each loaded particle's surface load to the nodes at the point of the surface it
-/// carries, its upper edge (x_p, y_p + l_y F22): the bilinear weights of that point's cell, so
-/// that the load reaches the surface's nodes, as a traction does, and not the particle's
-/// centre (where the material above it would carry none of it). One thread, in array order.
-/// Returns the nodes it added to.
-fn add_surface_loads(grid: &GridGeometry, particles: &Particles, force: &mut [[f64; 2]]) -> NodeBox {
-    let mut reached = NodeBox::EMPTY;
-    for (p, load) in particles.external_force.iter().enumerate() {
-        if *load == [0.0; 2] {
-            continue;
-        }
-        let x = particles.position[p];
-        let point = [x[0], x[1] + particles.initial_half_width[p][1] * particles.deformation_gradient[p][3]];
-        let [i, j] = grid.cell_of(point);
-        let local = grid.local(point);
-        let (fx, fy) = ((local[0] - i as f64).clamp(0.0, 1.0), (local[1] - j as f64).clamp(0.0, 1.0));
-        for (di, dj, w) in [(0, 0, (1.0 - fx) * (1.0 - fy)), (1, 0, fx * (1.0 - fy)), (0, 1, (1.0 - fx) * fy), (1, 1, fx * fy)] {
-            if w > 0.0 {
-                let node = grid.node_index(i + di, j + dj);
-                force[node][0] += w * load[0];
-                force[node][1] += w * load[1];
-                let (c, r) = ((i + di) as u32, (j + dj) as u32);
-                reached = reached.union(NodeBox { columns: [c, c], rows: [r, r] });
-            }
-        }
-    }
-    reached
-}
-
 /// Nodal velocities of both phases before and after the coupled momentum update, with the
 /// solid's constraints, then the water row re-solved for the constrained v⁺ and the
 /// impermeable boundaries.
@@ -488,7 +483,7 @@ fn update_grid(state: &mut State, dt: f64) {
                     let mut vn = [0.0; 2];
                     for d in 0..2 {
                         // Cundall local damping of the mixture's unbalanced force.
-                        let force = f[k][d] - params.damping * f[k][d].abs() * sign(v0[d]);
+                        let force = damped(f[k][d], params.damping, v0[d]);
                         vn[d] = if has_water {
                             v0[d] + solve_node(m, m_w[k], m_eq, dt * q[k], dt * force, dt * f_w[k][d], w0[d] - v0[d])
                         } else {
@@ -510,11 +505,12 @@ fn update_grid(state: &mut State, dt: f64) {
                 }
             }
         });
-    let serial_start = std::time::Instant::now();
-    let context = NodalContext { grid: &state.grid, mass: &fields.mass, time: state.time, dt, axisymmetric: params.axisymmetric };
-    state.constraints.apply_start_of_step(&context, &mut fields.velocity);
-    state.constraints.apply(&context, &mut fields.velocity_new, true);
-    state.timings.serial += serial_start.elapsed().as_secs_f64();
+    if let Some(row) = water.plate_row {
+        move_plate(fields, water, row, nx, dt, &params);
+    }
+    constrain_velocities(state, dt);
+    let fields = &state.fields;
+    let water = state.water.as_mut().expect("a saturated run has its water");
     // w⁺ from the water row with the constrained v⁺ (where no constraint acted, the value of
     // the coupled solve).
     let light = params.mass_threshold;
@@ -544,6 +540,73 @@ fn update_grid(state: &mut State, dt: f64) {
         water.velocity_new[node][d] = fields.velocity_new[node][d];
         water.velocity[node][d] = fields.velocity[node][d];
     }
+    water.drag_work += drag_work(water, &fields.velocity_new, dt, first_row..first_row + rows, columns, nx);
+}
+
+/// The loading plate: the nodes of grid row `row` take one vertical velocity V⁺. The plate is
+/// rigid, massless and impermeable, so on its nodes the water moves with the solid (w⁺ = v⁺ = V⁺
+/// vertically) and the vertical momentum balance of the row, with the plate's reactions summing
+/// to zero, gives Σ (M_s + M_w) V⁺ = Σ (M_s v + M_w w) + Δt Σ F over the row's nodes (the surface
+/// load is in F). Frictionless: the horizontal velocities are left as they are. One thread, in
+/// node order.
+fn move_plate(
+    fields: &mut crate::grid::GridFields,
+    water: &WaterState,
+    row: usize,
+    nx: usize,
+    dt: f64,
+    params: &super::StepParameters,
+) {
+    let nodes = row * nx..(row + 1) * nx;
+    let (mut inertia, mut momentum, mut force) = (0.0, 0.0, 0.0);
+    for k in nodes.clone() {
+        let m = fields.mass[k];
+        if m <= params.mass_threshold {
+            continue;
+        }
+        let m_w = if water.equation_mass[k] > water.mass_threshold { water.mass[k] } else { 0.0 };
+        inertia += m + m_w;
+        momentum += m * fields.velocity[k][1] + m_w * water.velocity[k][1];
+        force += fields.force[k][1];
+    }
+    if inertia > 0.0 {
+        // The damping acts on the plate's unbalanced force as a whole: its nodes' forces need
+        // not vanish one by one (the plate redistributes them), and damping each would push the
+        // plate up by α Σ |F_k|.
+        let plate = (momentum + dt * damped(force, params.damping, momentum / inertia)) / inertia;
+        for k in nodes.filter(|&k| fields.mass[k] > 0.0) {
+            fields.velocity_new[k][1] = plate;
+        }
+    }
+}
+
+/// The work of the implicit drag over one step over the nodes of `rows` × `columns` (one
+/// thread, row by row: deterministic). The water row is the water's momentum balance per unit
+/// volume of water (its mass M̄_w = Σ S ρ_w V), so its drag Q (w − v) is the force on the water
+/// of a unit volume of mixture divided by n; the force itself is n Q (w − v), with the nodal
+/// porosity n = M_w / M̄_w, and its work Σ Δt n Q |w⁺ − v⁺|² (per unit volume of mixture,
+/// (γ_w/k) |q|² with the Darcy flux q = n (w − v)).
+fn drag_work(
+    water: &WaterState,
+    v_new: &[[f64; 2]],
+    dt: f64,
+    rows: std::ops::Range<usize>,
+    columns: std::ops::RangeInclusive<usize>,
+    nx: usize,
+) -> f64 {
+    let mut work = 0.0;
+    for j in rows {
+        for k in columns.clone().map(|i| j * nx + i) {
+            if water.equation_mass[k] <= water.mass_threshold {
+                continue;
+            }
+            let porosity = water.mass[k] / water.equation_mass[k];
+            let (w, v) = (water.velocity_new[k], v_new[k]);
+            let r = [w[0] - v[0], w[1] - v[1]];
+            work += dt * porosity * water.drag[k] * (r[0] * r[0] + r[1] * r[1]);
+        }
+    }
+    work
 }
 
 
@@ -634,6 +697,7 @@ fn update_pore_pressure(state: &mut State) -> Result<(), Failure> {
         water.cell_volume[cell] += particles.volume[p];
         water.cell_storage[cell] += particles.volume[p] * e;
     }
+    let mut outflow = 0.0;
     for p in 0..particles.len() {
         let n = particles.porosity[p];
         if n <= 0.0 {
@@ -643,7 +707,9 @@ fn update_pore_pressure(state: &mut State) -> Result<(), Failure> {
         let e = water.cell_storage[cell] / water.cell_volume[cell];
         particles.pore_pressure[p] += pressure_increment(k_w, n, e);
         particles.porosity[p] = updated_porosity(n, water.volume_before[p], particles.volume[p]);
+        outflow += outflow_increment(water.volume_before[p], particles.volume[p], e);
     }
+    water.outflow += outflow;
     state.timings.serial += serial_start.elapsed().as_secs_f64();
     match particles.pore_pressure.iter().position(|p| !p.is_finite()) {
         Some(p) => Err(Failure::NotFinite { particle: p }),
@@ -700,6 +766,83 @@ mod tests {
         let n1 = updated_porosity(n, 1.0, 0.9);
         assert!(((1.0 - n1) * 0.9 - (1.0 - n) * 1.0).abs() < 1e-15);
         assert!((updated_porosity(n, 2.0, 2.0) - n).abs() < 1e-15);
+    }
+
+    #[test]
+    fn outflow_is_the_pore_volume_lost_plus_the_water_expansion() {
+        // The pore volume shrank by 0.1 with the water's pressure unchanged (e = 0): 0.1 left.
+        assert!((outflow_increment(2.0, 1.9, 0.0) - 0.1).abs() < 1e-15);
+        // No volume change, the pressure fell (e > 0): the water's expansion e V left.
+        assert!((outflow_increment(1.0, 1.0, 3e-6) - 3e-6).abs() < 1e-18);
+        // Both: the new volume weights the storage strain.
+        assert!((outflow_increment(1.0, 0.5, 1e-3) - (0.5e-3 + 0.5)).abs() < 1e-15);
+    }
+
+    /// A 3 × 2 node water state with the given nodal masses, drags and velocities.
+    fn water_on(nodes: usize, m_eq: f64, n: f64, q: f64, w: [f64; 2]) -> WaterState {
+        WaterState {
+            mass_threshold: 1e-9,
+            equation_mass: vec![m_eq; nodes],
+            mass: vec![n * m_eq; nodes],
+            drag: vec![q; nodes],
+            velocity: vec![w; nodes],
+            velocity_new: vec![w; nodes],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn drag_work_is_n_q_relative_speed_squared_over_the_region() {
+        let (nx, ny) = (3, 2);
+        let mut water = water_on(nx * ny, 2.0, 0.25, 8.0, [0.3, -0.4]);
+        let v = vec![[0.0; 2]; nx * ny];
+        // |w − v|² = 0.25, n Q = 2 per node, Δt = 0.5: 0.25 per node.
+        let all = drag_work(&water, &v, 0.5, 0..ny, 0..=nx - 1, nx);
+        assert!((all - 6.0 * 0.25).abs() < 1e-12, "{all}");
+        // Only the region's nodes, and none without water.
+        let one_row = drag_work(&water, &v, 0.5, 1..2, 1..=2, nx);
+        assert!((one_row - 2.0 * 0.25).abs() < 1e-12, "{one_row}");
+        water.equation_mass[nx + 1] = 0.0;
+        assert!((drag_work(&water, &v, 0.5, 1..2, 1..=2, nx) - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn plate_moves_its_row_together_under_the_total_force() {
+        let (nx, ny) = (3, 2);
+        let params = crate::solver::StepParameters {
+            flip_fraction: 1.0,
+            damping: 0.0,
+            scheme: crate::config::UpdateScheme::Musl,
+            mass_threshold: 1e-9,
+            volumetric_averaging: crate::config::VolumetricAveraging::None,
+            axisymmetric: false,
+            isa: crate::solver::Isa::Baseline,
+        };
+        let mut fields = crate::grid::GridFields::new(nx * ny);
+        let water = water_on(nx * ny, 1.0, 0.5, 3.0, [0.0, -0.1]);
+        for (i, (m, f)) in [(1.0, -4.0), (2.0, 1.0), (0.0, 7.0)].into_iter().enumerate() {
+            let k = nx + i;
+            fields.mass[k] = m;
+            fields.velocity[k] = [0.2 * i as f64, -0.1];
+            fields.velocity_new[k] = [0.5, 9.0];
+            fields.force[k] = [1.0, f];
+        }
+        let dt = 0.1;
+        move_plate(&mut fields, &water, 1, nx, dt, &params);
+        // Σ (M_s + M_w) V⁺ = Σ (M_s v + M_w w) + Δt Σ F over the nodes with mass (the third has none).
+        let expected = ((1.0 + 2.0) * -0.1 + 2.0 * 0.5 * -0.1 + dt * (-4.0 + 1.0)) / (1.0 + 2.0 + 2.0 * 0.5);
+        for k in [nx, nx + 1] {
+            assert!((fields.velocity_new[k][1] - expected).abs() < 1e-15, "{:?}", fields.velocity_new[k]);
+            assert_eq!(fields.velocity_new[k][0], 0.5, "frictionless: the horizontal velocity is left");
+        }
+        assert_eq!(fields.velocity_new[nx + 2], [0.5, 9.0], "a node without mass is left");
+        assert_eq!(fields.velocity_new[0], [0.0; 2], "the other rows are left");
+        // Damping acts on the total: with the plate moving down and Σ F = −3 N, the force becomes
+        // −3 + α·3 (against the motion), not Σ (F_k + α |F_k|).
+        let damped_params = crate::solver::StepParameters { damping: 0.5, ..params };
+        move_plate(&mut fields, &water, 1, nx, dt, &damped_params);
+        let damped_expected = ((1.0 + 2.0) * -0.1 + 2.0 * 0.5 * -0.1 + dt * (-3.0 + 1.5)) / 4.0;
+        assert!((fields.velocity_new[nx][1] - damped_expected).abs() < 1e-15, "{:?}", fields.velocity_new[nx]);
     }
 
     #[test]

@@ -223,6 +223,33 @@ impl<T> Shared<T> {
     }
 }
 
+/// Runs a scatter over the tiles of `order`, colour by colour: first every tile of a colour in
+/// parallel (`scatter(tile, false)`, its reach recorded), then, on this thread in array order,
+/// the tiles whose particles left their zone (`scatter(tile, true)`). Within a colour the tiles'
+/// zones are disjoint, so the parallel part is race free and the sums do not depend on the
+/// thread count. Returns the nodes the tiles reached and the time spent on one thread.
+#[inline(always)]
+pub(super) fn scatter_by_colour(
+    order: &mut TileOrder,
+    scatter: impl Fn(&Tile, bool) -> TileReach + Sync,
+) -> (NodeBox, std::time::Duration) {
+    let mut serial = std::time::Duration::ZERO;
+    for c in 0..COLOURS {
+        let range = order.colour(c);
+        order.tiles[range.clone()].par_iter().zip(order.reach[range.clone()].par_iter_mut()).for_each(|(tile, reach)| {
+            *reach = scatter(tile, false);
+        });
+        let serial_start = std::time::Instant::now();
+        for (tile, reach) in order.tiles[range.clone()].iter().zip(&order.reach[range]) {
+            if reach.overflow {
+                scatter(tile, true);
+            }
+        }
+        serial += serial_start.elapsed();
+    }
+    (order.reach.iter().fold(NodeBox::EMPTY, |b, r| b.union(r.reached)), serial)
+}
+
 /// Zeroes `box_` (rows of `nodes_x` nodes) in each of `fields`, rows in parallel.
 pub(super) fn zero_box<T: Copy + Default + Send + Sync>(field: &mut [T], nodes_x: usize, region: NodeBox) {
     if region.is_empty() {

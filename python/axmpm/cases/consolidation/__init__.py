@@ -1,6 +1,7 @@
 """``consolidation``: Terzaghi's one-dimensional consolidation of a saturated column, in plane
-strain and in axisymmetry, against the series solution (:mod:`.exact`; docs/verification.md
-"Consolidation").
+strain and in axisymmetry, against the series solution (:mod:`.exact`), and Mandel's problem in
+plane strain (:mod:`.mandel`, :func:`mandel_scenario`: the centre's pressure against the closed
+form, its rise above p₀ included) (docs/verification.md "Consolidation").
 
 Scenario (:func:`column_scenario`): a column H = 1 m high and one cell wide of a linear elastic
 skeleton (E = 10 MPa, ν = 0, so E_oed = E; grains 2650 kg/m³) saturated with water (n = 0.4,
@@ -64,6 +65,102 @@ ISOCHRONE_TOLERANCE = 0.03
 UNDRAINED_TOLERANCE = 0.01
 
 
+#: Mandel's problem (:mod:`.mandel`): a quarter of the specimen, half-width a and half-height b,
+#: a/h cells across; the plate's mean pressure is LOAD.
+MANDEL_HALF_WIDTH = 1.0
+MANDEL_HALF_HEIGHT = 0.5
+MANDEL_MESHES = (10, 20)
+QUICK_MANDEL_MESHES = (10,)
+#: History rows every ΔT = 0.005 (T = c t/a²) up to T = 0.6 (0.15 in the quick run, past the peak).
+MANDEL_ROW_TIME_FACTOR = 0.005
+MANDEL_END_TIME_FACTOR = 0.6
+QUICK_MANDEL_END_TIME_FACTOR = 0.15
+#: k of the Mandel runs: the step load sets the nearly incompressible specimen ringing in shear
+#: (period ≈ 0.04 s); at this k the consolidation time a²/c = 10 s is 250 such periods.
+MANDEL_CONDUCTIVITY = 1.0e-4
+#: Cundall local damping of the Mandel runs (a quasi-static problem): it settles the ringing by
+#: T ≈ 0.05 (at T = 0.02 it is still 4 % of p₀), before the centre's pressure peaks (T ≈ 0.08).
+MANDEL_DAMPING = 0.2
+#: The centre's pressure within 5 % of p₀ at every row from T = 0.05 on (p is then already 1.14 p₀,
+#: on its way up to the peak).
+MANDEL_TOLERANCE = 0.05
+MANDEL_FROM_TIME_FACTOR = 0.05
+
+
+def _saturated_block(formulation: str, end_time: float, output_interval: float, h: float, extent: list[float],
+                     name: str, lo: list[float], hi: list[float], conductivity: float,
+                     water_bulk_modulus: float) -> dict[str, Any]:
+    """What the case's scenarios share: no gravity, linear shape functions, MUSL with FLIP 0.99,
+    the grid from the origin, one rectangular body of the skeleton, 2 × 2 particles per cell,
+    saturated with the case's water under LOAD."""
+    return {
+        "simulation": {"formulation": formulation, "shape_function": "linear", "end_time": end_time,
+                       "output_interval": output_interval, "gravity": [0.0, 0.0], "flip_fraction": 0.99,
+                       "update_scheme": "musl"},
+        "grid": {"origin": [0.0, 0.0], "extent": extent, "cell_size": h},
+        "materials": {"skeleton": dict(SKELETON)},
+        "bodies": [{"name": name, "material": "skeleton", "min": lo, "max": hi, "particles_per_cell": 2,
+                    "saturated": {"porosity": POROSITY, "hydraulic_conductivity": conductivity,
+                                  "water_bulk_modulus": water_bulk_modulus, "water_density": WATER_DENSITY,
+                                  "surface_load": LOAD}}],
+    }
+
+
+def mandel_material(conductivity: float) -> Any:
+    from .mandel import MandelMaterial
+
+    return MandelMaterial(SKELETON["youngs_modulus"], SKELETON["poisson_ratio"], POROSITY, WATER_BULK_MODULUS,
+                          WATER_DENSITY, conductivity)
+
+
+def mandel_scenario(cells: int, conductivity: float, end_time_factor: float = MANDEL_END_TIME_FACTOR,
+                    *, as_dict: bool = False) -> Any:
+    """Mandel's specimen as its quarter 0 ≤ x ≤ a, 0 ≤ y ≤ b: rollers (impermeable) on the axes of
+    symmetry x = 0 and y = 0, the side x = a free and drained, the top under LOAD through the
+    rigid, frictionless, impermeable loading plate; no gravity; the probe ``centre`` at x = 0."""
+    a, b = MANDEL_HALF_WIDTH, MANDEL_HALF_HEIGHT
+    h = a / cells
+    time_scale = a * a / mandel_material(conductivity).consolidation_coefficient
+    data = _saturated_block("plane_strain", end_time_factor * time_scale, 0.1 * time_scale, h, [a + 2 * h, b + 2 * h],
+                            "specimen", [0.0, 0.0], [a, b], conductivity, WATER_BULK_MODULUS)
+    data["simulation"]["history_interval"] = MANDEL_ROW_TIME_FACTOR * time_scale
+    data["simulation"]["damping"] = MANDEL_DAMPING
+    data["bodies"][0]["saturated"]["loading_plate"] = True
+    data["boundaries"] = {"left": "roller", "right": "free", "bottom": "roller", "top": "free"}
+    data["probes"] = [{"name": "centre", "point": [0.0, 0.5 * b]}]
+    if as_dict:
+        return data
+    from ...scenario import Scenario
+
+    return Scenario.from_dict(data, source=f"consolidation mandel_n{cells:02d}")
+
+
+def mandel_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
+    """The centre's pressure against Mandel's closed form at every history row from
+    MANDEL_FROM_TIME_FACTOR on: the worst |p − p_exact|/p₀, the peak p/p₀ of both (over those rows)."""
+    import numpy as np
+
+    from ...run.output import load_run
+    from . import mandel
+
+    material = mandel_material(run.params["conductivity"])
+    p0 = material.initial_pressure(LOAD)
+    try:
+        history = load_run(run_dir).history
+        t = np.asarray(history["time"]) * material.consolidation_coefficient / MANDEL_HALF_WIDTH**2
+        p = np.asarray(history["centre.pore_pressure"]) / p0
+    except Exception:  # noqa: BLE001 - a failed run without history
+        return {"mandel_error": None, "p0": p0}
+    if len(t) < 3:
+        return {"mandel_error": None, "p0": p0}
+    exact_p = mandel.centre_pressure(t, material)
+    later = t >= MANDEL_FROM_TIME_FACTOR
+    t, p, exact_p = t[later], p[later], exact_p[later]
+    return {"p0": p0, "mandel_error": float(np.max(np.abs(p - exact_p))),
+            "peak": float(p.max()), "peak_exact": float(exact_p.max()),
+            "peak_time_factor": float(t[int(np.argmax(p))]), "cell_size": MANDEL_HALF_WIDTH / run.params["cells"]}
+
+
 def run_name(formulation: str, cells: int) -> str:
     return f"{formulation}_n{cells:02d}"
 
@@ -74,6 +171,9 @@ def run_specs(quick: bool = False) -> list[RunSpec]:
     runs = [RunSpec(run_name(f, n), {"formulation": f, "cells": n, "kind": "consolidation", "conductivity": k})
             for f in FORMULATIONS for n in meshes]
     runs.append(RunSpec("undrained", {"formulation": "plane_strain", "cells": 10, "kind": "undrained"}))
+    runs += [RunSpec(f"mandel_n{n:02d}", {"formulation": "plane_strain", "cells": n, "kind": "mandel",
+                                          "conductivity": MANDEL_CONDUCTIVITY, "quick": quick})
+             for n in (QUICK_MANDEL_MESHES if quick else MANDEL_MESHES)]
     return runs
 
 
@@ -113,37 +213,12 @@ def column_scenario(formulation: str, cells: int, kind: str = "consolidation", c
     walls = [{"axis": "x", "position": x0 + h, "material_side": "negative", "condition": "roller"}]
     if axisymmetric:
         walls.insert(0, {"axis": "x", "position": x0, "material_side": "positive", "condition": "roller"})
-    data = {
-        "simulation": {
-            "formulation": formulation,
-            "shape_function": "linear",
-            "end_time": end_time,
-            "output_interval": output_interval,
-            "gravity": [0.0, 0.0],
-            "flip_fraction": 0.99,
-            "update_scheme": "musl",
-        },
-        "grid": {"origin": [0.0, 0.0], "extent": [x0 + 3 * h, HEIGHT + 2 * h], "cell_size": h},
-        "materials": {"skeleton": dict(SKELETON)},
-        "bodies": [{
-            "name": "soil",
-            "material": "skeleton",
-            "min": [x0, 0.0],
-            "max": [x0 + h, HEIGHT],
-            "particles_per_cell": 2,
-            "saturated": {
-                "porosity": POROSITY,
-                "hydraulic_conductivity": k,
-                "water_bulk_modulus": k_w,
-                "water_density": WATER_DENSITY,
-                "surface_load": LOAD,
-            },
-        }],
-        # Base fixed and impermeable, sides rollers and impermeable, top free and drained (the
-        # faces' defaults).
-        "boundaries": {"left": "roller", "right": "free", "bottom": "fixed", "top": "free"},
-        "walls": walls,
-    }
+    data = _saturated_block(formulation, end_time, output_interval, h, [x0 + 3 * h, HEIGHT + 2 * h], "soil",
+                            [x0, 0.0], [x0 + h, HEIGHT], k, k_w)
+    # Base fixed and impermeable, sides rollers and impermeable, top free and drained (the
+    # faces' defaults).
+    data["boundaries"] = {"left": "roller", "right": "free", "bottom": "fixed", "top": "free"}
+    data["walls"] = walls
     if as_dict:
         return data
     from ...scenario import Scenario
@@ -162,6 +237,8 @@ def run_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
     from ...run.output import load_run
 
     kind = run.params["kind"]
+    if kind == "mandel":
+        return mandel_metrics(run, run_dir)
     k_w = water(kind)[1]
     u0 = exact.undrained_pressure(LOAD, POROSITY, k_w, OEDOMETER_MODULUS)
     try:
@@ -209,6 +286,17 @@ def run_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
 def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[dict[str, Any]]:
     checks: list[dict[str, Any]] = []
     for r in results:
+        if r.get("kind") == "mandel":
+            e = r.get("mandel_error")
+            checks.append({"name": f"{r['run']}: Mandel's centre pressure within {MANDEL_TOLERANCE} p₀ "
+                                   f"from c t/a² = {MANDEL_FROM_TIME_FACTOR:g}",
+                           "passed": e is not None and e <= MANDEL_TOLERANCE,
+                           "detail": f"max |Δp|/p₀ = {fmt(e, '.4f')}"})
+            peak = r.get("peak")
+            checks.append({"name": f"{r['run']}: the centre's pressure rises above p₀ (Mandel–Cryer effect)",
+                           "passed": peak is not None and peak > 1.0,
+                           "detail": f"peak p/p₀ = {fmt(peak, '.4f')} (closed form {fmt(r.get('peak_exact'), '.4f')})"})
+            continue
         if r.get("kind") == "undrained":
             e = r.get("undrained_error")
             checks.append({"name": f"{r['run']}: time-averaged ⟨p⟩/u₀ within {UNDRAINED_TOLERANCE:.0%}",
@@ -223,6 +311,11 @@ def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[
                        "passed": e is not None and e <= ISOCHRONE_TOLERANCE,
                        "detail": f"max |Δu|/u₀ = {fmt(e, '.4f')}"})
     if not quick:
+        group = sorted((r for r in results if r.get("kind") == "mandel"), key=lambda r: r["cells"])
+        errors = [r.get("mandel_error") for r in group]
+        if len(group) >= 2 and None not in errors:
+            checks.append({"name": "Mandel: the error shrinks with the mesh", "passed": errors[-1] < errors[0],
+                           "detail": ", ".join(f"a/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
         for f in FORMULATIONS:
             group = sorted((r for r in results if r.get("formulation") == f and r.get("kind") == "consolidation"),
                            key=lambda r: r["cells"])
@@ -245,6 +338,12 @@ def results_table(results: list[dict[str, Any]]) -> str:
         cells = " | ".join(fmt(r.get(f"U_{t:g}"), ".4f") for t in DEGREE_TIME_FACTORS)
         rows.append(f"| {r['run']} | {r['cells']} | {cells} | {fmt(r.get('degree_error'), '.4f')} | "
                     f"{fmt(r.get('isochrone_error'), '.4f')} |")
+    mandel_rows = [r for r in results if r.get("kind") == "mandel"]
+    if mandel_rows:
+        rows += ["", "| Mandel run | a/h | max \\|Δp\\|/p₀ (c t/a² ≥ " + f"{MANDEL_FROM_TIME_FACTOR:g}) | peak p/p₀ | "
+                 "closed-form peak | T at peak |", "|---|---|---|---|---|---|"]
+        rows += [f"| {r['run']} | {r['cells']} | {fmt(r.get('mandel_error'), '.4f')} | {fmt(r.get('peak'), '.4f')} | "
+                 f"{fmt(r.get('peak_exact'), '.4f')} | {fmt(r.get('peak_time_factor'), '.3f')} |" for r in mandel_rows]
     for r in results:
         if r.get("kind") == "undrained":
             rows.append(f"\nUndrained (k = {UNDRAINED_CONDUCTIVITY:g} m/s, K_w = {UNDRAINED_WATER_BULK_MODULUS:g} Pa): "
@@ -311,11 +410,16 @@ class Consolidation:
 
     def scenario(self, run: RunSpec) -> Any:
         p = run.params
+        if p["kind"] == "mandel":
+            end = QUICK_MANDEL_END_TIME_FACTOR if p.get("quick") else MANDEL_END_TIME_FACTOR
+            return mandel_scenario(p["cells"], p["conductivity"], end)
         return column_scenario(p["formulation"], p["cells"], p["kind"], p.get("conductivity", CONDUCTIVITY))
 
     def reference(self, run: RunSpec) -> dict[str, Any]:
         if run.params["kind"] == "undrained":
             return {"undrained_ratio": 1.0}
+        if run.params["kind"] == "mandel":
+            return {}
         return {f"U_{t:g}": exact.degree(t) for t in DEGREE_TIME_FACTORS}
 
     def metrics(self, run: RunSpec, run_dir: Path) -> dict[str, Any]:
@@ -323,6 +427,8 @@ class Consolidation:
 
     def cost(self, run: RunSpec) -> float:
         p = run.params
+        if p["kind"] == "mandel":
+            return float(p["cells"] ** 3 / p["conductivity"])
         return float(p["cells"] ** 2 / p["conductivity"]) if p["kind"] == "consolidation" else 1.0
 
     def progress(self, record: dict[str, Any]) -> str:
@@ -330,6 +436,9 @@ class Consolidation:
             return f"{record.get('status')}: {record.get('message', '')}"
         if record.get("kind") == "undrained":
             return f"⟨p⟩/u₀ {fmt(record.get('undrained_ratio'), '.4f')}"
+        if record.get("kind") == "mandel":
+            return (f"Mandel: max |Δp|/p₀ {fmt(record.get('mandel_error'), '.4f')}, peak p/p₀ "
+                    f"{fmt(record.get('peak'), '.4f')} (exact {fmt(record.get('peak_exact'), '.4f')})")
         return (f"max |ΔU| {fmt(record.get('degree_error'), '.4f')}, isochrones "
                 f"{fmt(record.get('isochrone_error'), '.4f')}")
 
