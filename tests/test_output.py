@@ -163,3 +163,28 @@ def test_state_of_names_the_column_and_lists_the_names() -> None:
 def test_a_frame_on_disk_lists_its_attributes(tiny_run: Path) -> None:
     frame = axmpm.load_run(tiny_run).last
     assert {"stress", "state", "state_names", "material_id", "displacement", "state_of"} <= set(dir(frame))
+
+
+def test_rigid_bodies_are_written_for_paraview_at_every_frame(tmp_path: Path) -> None:
+    """A run with a rigid body writes rigid_bodies.pvd beside particles.pvd, one outline file
+    per frame at the frame's time; meshio reads each as the body's edges, a closed outline whose
+    vertices are the body's moved by its displacement at that time (the history's)."""
+    from axmpm.run.output import load_run
+    from test_rigid_bodies import footing
+
+    out = tmp_path / "run"
+    axmpm.run(footing(), out, threads=1, progress=False)
+    run = load_run(out)
+    entries = ET.parse(out / "rigid_bodies.pvd").getroot().iter("DataSet")
+    times_files = [(float(e.get("timestep")), out / e.get("file")) for e in entries]
+    assert [t for t, _ in times_files] == pytest.approx(run.times.tolist(), abs=0)
+    base = np.array([[0.0, 0.6], [0.25, 0.6], [0.25, 0.7], [0.0, 0.7]])
+    history = run.history
+    for (t, path), frame in zip(times_files, run.frames, strict=True):
+        mesh = meshio.read(path)
+        row = int(np.argmin(abs(history["time"] - t)))
+        shift = np.array([history["footing.displacement_x"][row], history["footing.displacement_y"][row]])
+        edges = mesh.points[mesh.cells_dict["line"]][:, :, :2]  # (4, 2, 2): from, to
+        assert np.allclose(edges[:, 0], base + shift, rtol=0, atol=1e-12), (t, edges)
+        assert np.allclose(edges[:, 1], np.roll(base, -1, axis=0) + shift, rtol=0, atol=1e-12)  # closed
+        assert mesh.cell_data["body"][0].ravel().tolist() == [0, 0, 0, 0]

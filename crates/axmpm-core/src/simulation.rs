@@ -558,6 +558,21 @@ impl Simulation {
         self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.displacement(t))).collect()
     }
 
+    /// Per rigid body, its outline (counter-clockwise vertices, m) at the current time.
+    pub fn rigid_body_outlines(&self) -> Vec<(String, Vec<[f64; 2]>)> {
+        use crate::constraint::Constraint;
+        let t = self.state.time;
+        self.state
+            .constraints
+            .rigid_bodies()
+            .map(|b| {
+                let d = b.displacement(t);
+                let outline = b.region().outline();
+                (b.name().to_string(), outline.vertices().iter().map(|v| [v[0] + d[0], v[1] + d[1]]).collect())
+            })
+            .collect()
+    }
+
     /// Per rigid body, the mean force (N, whole body) the material exerted on it since the last
     /// call, split into the base (contact normals facing down) and the rest (the shaft):
     /// `(name, base, shaft)`. Independent of [`Simulation::reactions`], whose force is their sum.

@@ -202,6 +202,15 @@ impl PySimulation {
     fn reaction_names(&self) -> Vec<String> {
         self.inner.reaction_names()
     }
+    /// Per rigid body, its outline at the current time: [(name, [(x, y), ...]), ...] (m,
+    /// counter-clockwise, not closed).
+    fn rigid_body_outlines(&self) -> Vec<(String, Vec<(f64, f64)>)> {
+        self.inner
+            .rigid_body_outlines()
+            .into_iter()
+            .map(|(name, vertices)| (name, vertices.into_iter().map(|v| (v[0], v[1])).collect()))
+            .collect()
+    }
     /// Per rigid body, its displacement (m) at the current time: [(name, dx, dy), ...].
     fn rigid_body_displacements(&self) -> Vec<(String, f64, f64)> {
         self.inner.rigid_body_displacements().into_iter().map(|(name, d)| (name, d[0], d[1])).collect()

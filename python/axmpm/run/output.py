@@ -24,6 +24,9 @@ Layout of a run folder::
                              probe NAME.pore_pressure, NAME.stress_*, NAME.displacement_x/y
                              (axmpm.run.probes)
     particles.pvd            ParaView collection of the frames with their times
+    rigid_bodies.pvd         (runs with rigid bodies) ParaView collection of the bodies'
+                             outlines at the frames' times, frames/rigid_bodies_NNNNNN.vtu
+                             (each body's edges as line cells, cell data ``body``: its index)
     frames/frame_NNNNNN.vtu  particles as VTK points (pyevtk), for ParaView
     frames/frame_NNNNNN.npz  the same data, compact numpy; :func:`load_run` reads these
     checkpoint.npz           latest restart point (engine state at an output time + metadata),
@@ -64,6 +67,9 @@ __all__ = [
     "stress_names",
     "write_frame",
     "write_pvd",
+    "write_outlines",
+    "outline_entries",
+    "BODIES_PVD",
     "write_json",
     "write_json_robustly",
     "writing",
@@ -84,6 +90,9 @@ SUMMARY = "summary.json"
 SCENARIO = "scenario.toml"
 HISTORY = "history.csv"
 PVD = "particles.pvd"
+#: The rigid bodies' outlines: ParaView collection and the stem of its per-frame files.
+BODIES_PVD = "rigid_bodies.pvd"
+BODIES_STEM = "rigid_bodies_"
 FRAMES = "frames"
 CHECKPOINT = "checkpoint.npz"
 
@@ -327,17 +336,54 @@ def write_frame(run_dir: Path, index: int, frame: FrameData, formulation: str) -
     return vtu
 
 
-def write_pvd(run_dir: Path, entries: Sequence[tuple[float, Path]]) -> None:
-    """(Re)write ``particles.pvd`` listing ``(time, vtu path)`` entries, atomically."""
+def write_pvd(run_dir: Path, entries: Sequence[tuple[float, Path]], name: str = PVD) -> None:
+    """(Re)write ``particles.pvd`` (or ``name``) listing ``(time, vtu path)`` entries, atomically."""
     from pyevtk.vtk import VtkGroup
 
-    tmp_stem = run_dir / f".particles.tmp{os.getpid()}"
-    with writing(run_dir / PVD):
+    tmp_stem = run_dir / f".{Path(name).stem}.tmp{os.getpid()}"
+    with writing(run_dir / name):
         group = VtkGroup(str(tmp_stem))
         for time, vtu in entries:
             group.addFile(filepath=str(vtu), sim_time=repr(float(time)))
         group.save()
-        os.replace(f"{tmp_stem}.pvd", run_dir / PVD)
+        os.replace(f"{tmp_stem}.pvd", run_dir / name)
+
+
+def outline_entries(run_dir: Path, frame_entries: Sequence[tuple[float, Path]]) -> list[tuple[float, Path]]:
+    """The ``(time, path)`` of the rigid bodies' outline files of the frames ``frame_entries``
+    (frame i's outlines: ``frames/rigid_bodies_i.vtu``) that exist."""
+    paths = [(t, Path(run_dir) / FRAMES / f"{BODIES_STEM}{i:06d}.vtu") for i, (t, _) in enumerate(frame_entries)]
+    return [(t, p) for t, p in paths if p.exists()]
+
+
+def write_outlines(run_dir: Path, index: int, outlines: Sequence[tuple[str, Sequence[tuple[float, float]]]]) -> Path:
+    """Write ``frames/rigid_bodies_NNNNNN.vtu``: each rigid body's outline as its edges, line
+    cells from vertex k to k + 1 (cell data ``body``, its index in the scenario), atomically;
+    return its path."""
+    from pyevtk.hl import unstructuredGridToVTK
+    from pyevtk.vtk import VtkLine
+
+    frames = run_dir / FRAMES
+    frames.mkdir(exist_ok=True)
+    stem = f"{BODIES_STEM}{index:06d}"
+    points, connectivity, body = [], [], []
+    for i, (_, vertices) in enumerate(outlines):
+        first, n = sum(len(p) for p in points), len(vertices)
+        points.append(np.asarray(vertices, dtype=float))
+        connectivity += [(first + k, first + (k + 1) % n) for k in range(n)]
+        body += [i] * n
+    xy = np.concatenate(points)
+    tmp_stem = frames / f".{stem}.tmp{os.getpid()}"
+    vtu = frames / f"{stem}.vtu"
+    with writing(vtu):
+        unstructuredGridToVTK(
+            str(tmp_stem), np.ascontiguousarray(xy[:, 0]), np.ascontiguousarray(xy[:, 1]), np.zeros(len(xy)),
+            connectivity=np.array(connectivity, dtype=np.int64).ravel(),
+            offsets=np.arange(2, 2 * len(connectivity) + 1, 2, dtype=np.int64),
+            cell_types=np.full(len(connectivity), VtkLine.tid, dtype=np.uint8),
+            cellData={"body": np.array(body, dtype=np.int32)})
+        os.replace(f"{tmp_stem}.vtu", vtu)
+    return vtu
 
 
 class HistoryWriter:
@@ -492,14 +538,15 @@ def remove_frames_from(run_dir: Path, first: int) -> None:
     frames = Path(run_dir) / FRAMES
     if not frames.is_dir():
         return
-    for p in frames.glob("frame_*.*"):
-        stem = p.name.split(".", 1)[0]
-        try:
-            index = int(stem.removeprefix("frame_"))
-        except ValueError:
-            continue
-        if index >= first and p.suffix in (".npz", ".vtu"):
-            p.unlink()
+    for prefix in ("frame_", BODIES_STEM):
+        for p in frames.glob(f"{prefix}*.*"):
+            stem = p.name.split(".", 1)[0]
+            try:
+                index = int(stem.removeprefix(prefix))
+            except ValueError:
+                continue
+            if index >= first and p.suffix in (".npz", ".vtu"):
+                p.unlink()
 
 
 def remove_temporary_files(run_dir: Path) -> None:

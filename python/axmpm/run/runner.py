@@ -55,6 +55,9 @@ from .output import (
     output_message,
     write_json_robustly,
     write_pvd,
+    write_outlines,
+    outline_entries,
+    BODIES_PVD,
     write_text,
 )
 from .probes import probe_columns
@@ -340,6 +343,10 @@ class _Driver:
         index = len(self.pvd_entries)
         try:
             vtu = write_frame(out, index, frame, self.sim_cfg.formulation)
+            outlines = sim.rigid_body_outlines()
+            if outlines:
+                write_outlines(out, index, outlines)
+                write_pvd(out, outline_entries(out, [*self.pvd_entries, (frame.time, vtu)]), BODIES_PVD)
             write_pvd(out, [*self.pvd_entries, (frame.time, vtu)])
         except OSError:
             with contextlib.suppress(OSError):
@@ -633,6 +640,8 @@ def _resume_locked(out: Path, threads: int, progress: bool | None, chunk_steps: 
     if missing:
         raise RunError(f"{out} lacks frames written before its checkpoint: {', '.join(missing[:3])}")
     write_pvd(out, pvd_entries)
+    if bodies := outline_entries(out, pvd_entries):
+        write_pvd(out, bodies, BODIES_PVD)
     history = HistoryWriter.resume(out / HISTORY, ckpt.time)
 
     summary.update(status="running", message="", resumed=int(summary.get("resumed", 0)) + 1,
