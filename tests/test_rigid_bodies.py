@@ -61,6 +61,10 @@ BAD_INPUT = [
     ("rigid_bodies.0.adhesion_limit=0", "rigid_bodies.0.adhesion_limit", "must be a finite number > 0 Pa"),
     ("rigid_bodies.0.motion=[[0, 0, 1e308], [1, 0, 1e308]]", "rigid_bodies.0.motion",
      "carries the body out of the grid at t = "),
+    ("grid.follow='pile'", "grid.follow", "must name a rigid body ('footing') (got 'pile')"),
+    ("walls=[{axis='x', position=0.9, material_side='negative', condition='roller'}]", "grid.follow",
+     "cannot be combined with walls"),
+    ("grid.experimental=false", "grid.follow", "set grid.experimental = true"),
     ("materials.clay.cohesion=0", "materials.clay.friction_angle", "= 0 (Tresca) needs cohesion > 0"),
     ("materials.clay.dilation_angle=2", "materials.clay.dilation_angle", "<= friction_angle"),
 ]
@@ -68,7 +72,10 @@ BAD_INPUT = [
 
 @pytest.mark.parametrize("override,key,text", BAD_INPUT, ids=[b[1] + ":" + b[2] for b in BAD_INPUT])
 def test_bad_rigid_body_input_names_the_key(override: str, key: str, text: str) -> None:
-    errors = errors_of(footing(), override)
+    data = footing()
+    if key == "grid.follow":
+        data["grid"].update(follow="footing", experimental=True)
+    errors = errors_of(data, override)
     assert key in errors, errors
     assert text in errors[key], errors[key]
 
@@ -256,3 +263,17 @@ def test_pile_example_carries_the_geostatic_load_before_the_push(tmp_path: Path)
     assert pile["base_force"][-1, 1] == pytest.approx(geostatic, rel=0.02)
     assert abs(pile["shaft_force"][-1, 1]) < 0.05 * geostatic
     assert np.all(pile["displacement"][:, 1] == 0.0)
+
+
+def test_a_grid_that_follows_the_footing_moves_with_it(tmp_path: Path) -> None:
+    """``grid.follow``: the engine steps on a grid one row taller than the scenario's, placed at
+    the footing's displacement modulo a cell; the run completes and the footing carries load."""
+    data = footing(end_time=0.2, output_interval=0.1)
+    data["grid"].update(follow="footing", experimental=True)
+    summary = run(Scenario.from_dict(data), tmp_path / "run", threads=1)
+    assert summary["status"] == "completed", summary["message"]
+    assert summary["grid_shape"] == [21, 18], "21 × 17 nodes in the scenario, one row more"
+    body = load_run(tmp_path / "run").rigid_bodies["footing"]
+    # 0.5 m/s after a 10 ms ramp: 97.5 mm in 0.2 s, about two cells of 50 mm.
+    assert body["displacement"][-1, 1] == pytest.approx(-0.0975, rel=1e-9)
+    assert body["force"][-1, 1] > 0.0

@@ -110,7 +110,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
             volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),
         },
-        grid: GridConfig { origin: [0.0, 0.0], extent: [0.2, 0.1], cell_size: 0.001 },
+        grid: GridConfig { origin: [0.0, 0.0], extent: [0.2, 0.1], cell_size: 0.001, follow: None, experimental: false },
         materials,
         bodies: vec![BodyConfig {
             initial_stress: InitialStress::Geostatic,

@@ -126,6 +126,14 @@ pub struct GridConfig {
     pub origin: [f64; 2],
     pub extent: [f64; 2],
     pub cell_size: f64,
+    /// A rigid body the grid follows along y (the moving grid, docs/physics.md §8): the nodes
+    /// move with the body's axial displacement, modulo one cell, so the body keeps its place
+    /// relative to the node rows and no row ever enters or leaves its contact.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub follow: Option<String>,
+    /// Allows the grid's experimental options (`follow`).
+    #[serde(default)]
+    pub experimental: bool,
 }
 
 /// One material: the `model` (a name of [`crate::material::MODELS`]) and its parameters, which
@@ -478,6 +486,9 @@ impl Config {
             }
         }
         validate_saturated(self)?;
+        if let Some(name) = &g.follow {
+            validate_follow(self, name)?;
+        }
         Ok(())
     }
 }
@@ -725,6 +736,31 @@ impl DrainageConfig {
 
 /// Range checks of the `saturated` tables, naming the key; one pore water per run; prescribed
 /// face pressures finite and on drained faces.
+/// Why `grid.follow` needs `grid.experimental = true` (the same words in the front end).
+pub const FOLLOW_IS_EXPERIMENTAL: &str = "the moving grid is experimental (measured, not adopted: no load steps and \
+    smooth footings converge, but rough bodies and FLIP 0.999 became unstable at B/h = 40; \
+    docs/studies/contact-remedies.md): set grid.experimental = true to use it";
+
+/// `grid.follow`: a rigid body of the run, and nothing else tied to fixed node rows (a wall's
+/// nodes, the drainage faces of saturated soil, a non-local material's cell boundaries are
+/// found once, on the grid as built).
+fn validate_follow(config: &Config, name: &str) -> Result<(), String> {
+    if !config.grid.experimental {
+        return Err(format!("grid.follow: {FOLLOW_IS_EXPERIMENTAL}"));
+    }
+    if !config.rigid_bodies.iter().any(|b| b.name == name) {
+        let names: Vec<&str> = config.rigid_bodies.iter().map(|b| b.name.as_str()).collect();
+        return Err(format!("grid.follow: no rigid body named '{name}' (rigid bodies: {names:?})"));
+    }
+    if !config.walls.is_empty() {
+        return Err("grid.follow cannot be combined with walls (a wall's nodes are fixed): use the grid's faces".into());
+    }
+    if config.bodies.iter().any(|b| b.saturated.is_some()) {
+        return Err("grid.follow cannot be combined with saturated bodies (their drainage faces are fixed rows)".into());
+    }
+    Ok(())
+}
+
 fn validate_saturated(config: &Config) -> Result<(), String> {
     let d = &config.drainage;
     let names = ["left", "right", "bottom", "top"];

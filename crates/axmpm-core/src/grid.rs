@@ -21,6 +21,12 @@ impl GridGeometry {
     }
 
     #[inline(always)]
+    /// The same grid with one more row of cells on top (the moving grid of `grid.follow`).
+    pub fn with_extra_row(&self) -> Self {
+        let cells = [self.cells[0], self.cells[1] + 1];
+        Self { cells, nodes: [cells[0] + 1, cells[1] + 1], ..*self }
+    }
+
     pub fn num_nodes(&self) -> usize {
         self.nodes[0] * self.nodes[1]
     }

@@ -118,6 +118,8 @@ pub struct Simulation {
     parts_since: f64,
     /// Each surcharge's force at full load, N per metre or per radian ([`crate::setup::surcharge_forces`]).
     surcharge_totals: Vec<[f64; 2]>,
+    /// `grid.follow`: the index, among the rigid bodies, of the body the grid moves with.
+    follow: Option<usize>,
 }
 
 /// What a run needs of its interpolation scheme, resolved once from the scenario's names:
@@ -265,7 +267,10 @@ impl Simulation {
             axisymmetric,
             isa: crate::solver::Isa::detect(),
         };
-        let mut constraints = Constraints::new(&grid, &config.boundaries, &config.walls, axisymmetric);
+        // The grid the solver steps on. With `grid.follow` it has one more row of cells and moves
+        // along y with the body (`Simulation::place_grid`): it always covers the scenario's grid.
+        let step_grid = if g.follow.is_some() { grid.with_extra_row() } else { grid };
+        let mut constraints = Constraints::new(&step_grid, &config.boundaries, &config.walls, axisymmetric, g.follow.is_some());
         // Rigid bodies last. Their reach is the largest particle half-width h/(2n) of the bodies.
         let finest = config.bodies.iter().map(|b| b.particles_per_cell).min().unwrap_or(1).max(1);
         let reach = g.cell_size / (2.0 * finest as f64);
@@ -278,7 +283,11 @@ impl Simulation {
             .map(|(m, _)| m.density() * m.wave_speed() * m.wave_speed())
             .fold(0.0_f64, f64::max);
         for body in crate::setup::rigid_bodies(&config)? {
-            let body = body.with_reach(reach).with_penalty_stiffness(constrained_modulus / g.cell_size);
+            let followed = g.follow.as_deref() == Some(crate::constraint::Constraint::name(&body));
+            let body = body
+                .with_reach(reach)
+                .with_penalty_stiffness(constrained_modulus / g.cell_size)
+                .followed_by_the_grid(followed);
             constraints.push(Box::new(body));
         }
         // A penalty contact adds to a surface node at most the stiffness of the soil's own cell
@@ -289,15 +298,24 @@ impl Simulation {
         } else {
             dt
         };
-        let water = solver::saturated::WaterState::new(&config, &grid, &particles);
+        let follow = match &g.follow {
+            Some(name) => Some(
+                constraints
+                    .rigid_bodies()
+                    .position(|b| crate::constraint::Constraint::name(b) == name.as_str())
+                    .ok_or_else(|| format!("grid.follow: no rigid body named '{name}'"))?,
+            ),
+            None => None,
+        };
+        let water = solver::saturated::WaterState::new(&config, &step_grid, &particles);
         let surcharge_totals = match s.formulation {
             FormulationKind::PlaneStrain => crate::setup::surcharge_forces::<PlaneStrain>(&config, &particles),
             FormulationKind::Axisymmetric => crate::setup::surcharge_forces::<Axisymmetric>(&config, &particles),
         };
         let mut state = State {
             water,
-            grid,
-            fields: GridFields::new(grid.num_nodes()),
+            grid: step_grid,
+            fields: GridFields::new(step_grid.num_nodes()),
             tiles,
             sorted_at: None,
             scratch: Scratch::default(),
@@ -312,9 +330,12 @@ impl Simulation {
             load_factor: 1.0,
         };
         state.allocate_scratch();
-        state.scratch.cell_laplacian = crate::material::CellLaplacian::of(&state.materials, &grid, || {
-            crate::material::FluidityBoundary::new(&grid, &config.boundaries, &config.walls, axisymmetric)
+        state.scratch.cell_laplacian = crate::material::CellLaplacian::of(&state.materials, &step_grid, || {
+            crate::material::FluidityBoundary::new(&step_grid, &config.boundaries, &config.walls, axisymmetric)
         });
+        if follow.is_some() && state.scratch.cell_laplacian.is_some() {
+            return Err("grid.follow cannot be combined with a non-local material (its cell boundaries are fixed)".into());
+        }
         // threads = 0: as many cores as the problem can use. Below ~10,000 particles per thread
         // the fork/join of each pass costs more than it saves. Results do not depend on it.
         let threads = if threads == 0 {
@@ -327,14 +348,10 @@ impl Simulation {
             .num_threads(threads)
             .build()
             .map_err(|e| format!("could not start {threads} threads: {e}"))?;
-        // A new run (or an older checkpoint) is sorted now, as part of the set-up, on the run's
-        // own threads (never rayon's global pool: see `Particles::permute`).
-        if state.tiles.is_empty() {
-            pool.install(|| state.sort_if_due());
-        }
-        (scheme.allocate_cache)(&mut state);
+        // A new run (or an older checkpoint) is sorted at the end of the set-up, once the grid is
+        // placed, on the run's own threads (never rayon's global pool: see `Particles::permute`).
         let reactions_since = state.time;
-        Ok(Self {
+        let mut simulation = Self {
             config,
             state,
             material_names,
@@ -346,7 +363,30 @@ impl Simulation {
             reactions_since,
             parts_since: reactions_since,
             surcharge_totals,
-        })
+            follow,
+        };
+        simulation.place_grid();
+        if simulation.state.tiles.is_empty() {
+            let Self { pool, state, .. } = &mut simulation;
+            pool.install(|| state.sort_if_due());
+        }
+        (simulation.scheme.allocate_cache)(&mut simulation.state);
+        Ok(simulation)
+    }
+
+    /// With `grid.follow`, places the grid for the step that starts now: its rows move with the
+    /// followed body's axial displacement u_y, modulo one cell h, origin_y = y_0 − ((−u_y) mod h),
+    /// so every node row keeps its distance to the body, and the grid (one row taller than the
+    /// scenario's) covers the scenario's grid y_0 … y_0 + H at every step. Particles carry the
+    /// whole state, so only the nodes move (the moving mesh of Beuth 2012 and Ceccato et al. 2016,
+    /// without their compressed zone: the faces' node rows move with the grid, at most one cell
+    /// outside the scenario's faces; docs/physics.md §8).
+    fn place_grid(&mut self) {
+        let Some(k) = self.follow else { return };
+        let body = self.state.constraints.rigid_bodies().nth(k).expect("followed body");
+        let uy = body.displacement(self.state.time)[1];
+        let h = self.state.grid.cell_size;
+        self.state.grid.origin[1] = self.config.grid.origin[1] - (-uy).rem_euclid(h);
     }
 
     /// Gravity at the current time: ramped linearly from zero over `gravity_ramp_time`.
@@ -401,6 +441,7 @@ impl Simulation {
             };
             let gravity = self.gravity();
             self.state.load_factor = self.load_factor();
+            self.place_grid();
             let step_fn = self.scheme.step;
             let state = &mut self.state;
             let result = self.pool.install(|| step_fn(state, dt, gravity));

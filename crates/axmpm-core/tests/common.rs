@@ -33,7 +33,7 @@ pub fn block(
             volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),
         },
-        grid: GridConfig { origin: [0.0, 0.0], extent: [2.0, 2.0], cell_size: 0.1 },
+        grid: GridConfig { origin: [0.0, 0.0], extent: [2.0, 2.0], cell_size: 0.1, follow: None, experimental: false },
         materials,
         bodies: vec![BodyConfig { velocity, ..BodyConfig::rectangle("m", [0.6, 0.6], [1.0, 1.2]) }],
         boundaries: BoundariesConfig::default(),

@@ -75,7 +75,7 @@ fn column_with_water(formulation: FormulationKind, cells: usize, k: f64, k_w: f6
     let x0 = if axisymmetric { 1.0 } else { 0.0 };
     let mut cfg = common::block(formulation, ShapeFunctionKind::Linear, [0.0, 0.0], [0.0, 0.0]);
     cfg.materials.insert("m".into(), common::material("linear_elastic", 2650.0, E_OED, 0.0));
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [x0 + 3.0 * h, HEIGHT + 2.0 * h], cell_size: h };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [x0 + 3.0 * h, HEIGHT + 2.0 * h], cell_size: h, follow: None, experimental: false };
     cfg.simulation.flip_fraction = 0.99;
     let mut body = BodyConfig::rectangle("m", [x0, 0.0], [x0 + h, HEIGHT]);
     body.saturated = Some(saturated(k, k_w, false));
@@ -297,7 +297,7 @@ fn the_loading_plate_carries_the_whole_load_with_a_uniform_settlement() {
     let k = 1e-4;
     let mut cfg = common::block(FormulationKind::PlaneStrain, ShapeFunctionKind::Linear, [0.0, 0.0], [0.0, 0.0]);
     cfg.materials.insert("m".into(), common::material("linear_elastic", 2650.0, E_OED, 0.0));
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [a + 2.0 * h, b + 2.0 * h], cell_size: h };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [a + 2.0 * h, b + 2.0 * h], cell_size: h, follow: None, experimental: false };
     cfg.simulation.flip_fraction = 0.99;
     cfg.simulation.damping = 0.2;
     let mut body = BodyConfig::rectangle("m", [0.0, 0.0], [a, b]);

@@ -19,7 +19,7 @@ fn beads(formulation: FormulationKind) -> Config {
     beads.set("friction", FRICTION);
     cfg.materials.clear();
     cfg.materials.insert("beads".into(), beads);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.48, 0.3], cell_size: 0.01 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.48, 0.3], cell_size: 0.01, follow: None, experimental: false };
     cfg.bodies[0] = BodyConfig {
         initial_stress: InitialStress::Geostatic,
         k0: Some(1.0 - FRICTION),

@@ -21,7 +21,7 @@ fn a_block_sliding_to_rest_dissipates_its_kinetic_energy_in_base_friction() {
     let (v0, mu) = (1.0, 0.3);
     let mut cfg = block(FormulationKind::PlaneStrain, ShapeFunctionKind::Linear, [0.0, -G], [v0, 0.0]);
     cfg.materials.get_mut("m").unwrap().set("youngs_modulus", 1e7);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [1.2, 0.4], cell_size: 0.05 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [1.2, 0.4], cell_size: 0.05, follow: None, experimental: false };
     cfg.bodies[0].set_rectangle([0.1, 0.0], [0.5, 0.2]);
     cfg.bodies[0].initial_stress = InitialStress::Geostatic;
     cfg.boundaries.bottom = BoundaryCondition::friction(mu);
@@ -59,7 +59,7 @@ fn an_elastic_column_keeps_its_energy() {
     for formulation in ALL_FORMULATIONS {
         let mut cfg = block(formulation, ShapeFunctionKind::Cpgimp, [0.0, -G], [0.0, 0.0]);
         cfg.materials.get_mut("m").unwrap().set("youngs_modulus", 2e5);
-        cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.6, 1.2], cell_size: 0.05 };
+        cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.6, 1.2], cell_size: 0.05, follow: None, experimental: false };
         cfg.bodies[0].set_rectangle([0.0, 0.0], [0.2, 1.0]);
         cfg.boundaries.bottom = BoundaryCondition::ROLLER;
         cfg.boundaries.left = BoundaryCondition::ROLLER;
@@ -87,7 +87,7 @@ fn plastic_work_of_a_collapsing_column_is_positive_and_closes_the_budget() {
     let mut mc = material("mohr_coulomb", 1550.0, 1e6, 0.3);
     mc.set("friction_angle", 25.0).set("dilation_angle", 0.0).set("cohesion", 0.0).set("tension_cutoff", 0.0);
     cfg.materials.insert("m".to_string(), mc);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.3, 0.12], cell_size: 0.01 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.3, 0.12], cell_size: 0.01, follow: None, experimental: false };
     cfg.bodies[0].set_rectangle([0.0, 0.0], [0.05, 0.1]);
     cfg.bodies[0].initial_stress = InitialStress::Geostatic;
     cfg.bodies[0].k0 = Some(0.58);

@@ -15,7 +15,7 @@ fn cylinder(shape: ShapeFunctionKind) -> Config {
     let mut cfg = block(FormulationKind::Axisymmetric, shape, [0.0, -10.0], [0.0, 0.0]);
     // ρ g H / E = 1e-3: small strain.
     cfg.materials.get_mut("m").unwrap().set("poisson_ratio", 0.3).set("youngs_modulus", 1e7);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [radius + 4.0 * h, height + 2.0 * h], cell_size: h };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [radius + 4.0 * h, height + 2.0 * h], cell_size: h, follow: None, experimental: false };
     cfg.bodies[0].set_rectangle([0.0, 0.0], [radius, height]);
     cfg.boundaries.bottom = BoundaryCondition::ROLLER;
     cfg.simulation.gravity_ramp_time = 0.3;

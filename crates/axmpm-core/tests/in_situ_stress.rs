@@ -22,7 +22,7 @@ fn layer(formulation: FormulationKind, surcharge: bool) -> Config {
     let mut cfg = block(formulation, ShapeFunctionKind::Cpgimp, [0.0, 0.0], [0.0, 0.0]);
     cfg.simulation.time_step = 5e-5;
     cfg.simulation.volumetric_averaging = VolumetricAveraging::Cell;
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.5, 0.75], cell_size: 0.05 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.5, 0.75], cell_size: 0.05, follow: None, experimental: false };
     cfg.materials = BTreeMap::from([("clay".to_string(), tresca(1800.0))]);
     let mut body = BodyConfig::rectangle("clay", [0.0, 0.0], [0.5, 0.5]);
     body.initial_stress = InitialStress::Given([-S_V0, -S_V0, -S_V0, 0.0]);
@@ -77,7 +77,7 @@ fn stacked_geostatic_bodies_count_the_weight_above_and_the_surcharge() {
     let (g, rho_c, rho_s, q) = (9.81, 1800.0, 2000.0, 10e3);
     for formulation in ALL_FORMULATIONS {
         let mut cfg = block(formulation, ShapeFunctionKind::Cpgimp, [0.0, -g], [0.0, 0.0]);
-        cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [1.0, 4.0], cell_size: 0.25 };
+        cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [1.0, 4.0], cell_size: 0.25, follow: None, experimental: false };
         cfg.materials = BTreeMap::from([
             ("clay".to_string(), material("linear_elastic", rho_c, 1e7, 0.4)),
             ("sand".to_string(), material("linear_elastic", rho_s, 5e7, 0.25)),

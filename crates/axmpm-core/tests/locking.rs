@@ -22,7 +22,7 @@ fn cylinder(shape: ShapeFunctionKind, formulation: FormulationKind, averaging: V
     let (radius, h) = (0.2, 0.05);
     let mut cfg = block(formulation, shape, [0.0, -G], [0.0, 0.0]);
     cfg.materials.get_mut("m").unwrap().set("poisson_ratio", NU).set("youngs_modulus", E);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [radius + 4.0 * h, HEIGHT + 2.0 * h], cell_size: h };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [radius + 4.0 * h, HEIGHT + 2.0 * h], cell_size: h, follow: None, experimental: false };
     cfg.bodies[0].set_rectangle([0.0, 0.0], [radius, HEIGHT]);
     cfg.boundaries.bottom = BoundaryCondition::ROLLER;
     if formulation == FormulationKind::PlaneStrain {

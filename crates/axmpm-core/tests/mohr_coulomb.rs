@@ -16,7 +16,7 @@ fn sand_column(formulation: FormulationKind) -> Config {
     sand.set("friction_angle", 35.0).set("dilation_angle", 0.0).set("cohesion", 2e3);
     cfg.materials.clear();
     cfg.materials.insert("sand".into(), sand);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.6, 0.6], cell_size: 0.05 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.6, 0.6], cell_size: 0.05, follow: None, experimental: false };
     cfg.bodies[0] = BodyConfig {
         initial_stress: InitialStress::Geostatic,
         ..BodyConfig::rectangle("sand", [0.0, 0.0], [0.3, 0.4])

@@ -16,7 +16,7 @@ const G: f64 = 9.81;
 /// on the axis (axisymmetric) or in the middle of the grid (plane strain).
 fn block_on_base(formulation: FormulationKind, shape: ShapeFunctionKind, base: BoundaryCondition) -> (Config, Rectangle) {
     let mut cfg = block(formulation, shape, [0.0, -G], [0.0, 0.0]);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [1.0, 0.6], cell_size: 0.05 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [1.0, 0.6], cell_size: 0.05, follow: None, experimental: false };
     let region = match formulation {
         FormulationKind::Axisymmetric => Rectangle { min: [0.0, 0.0], max: [0.3, 0.3] },
         FormulationKind::PlaneStrain => Rectangle { min: [0.35, 0.0], max: [0.65, 0.3] },

@@ -14,7 +14,7 @@ fn collapse(formulation: FormulationKind, shape: ShapeFunctionKind) -> Config {
     sand.set("friction_angle", 25.0).set("dilation_angle", 0.0).set("cohesion", 0.0);
     cfg.materials.clear();
     cfg.materials.insert("sand".into(), sand);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.64, 0.4], cell_size: 0.01 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.64, 0.4], cell_size: 0.01, follow: None, experimental: false };
     cfg.bodies[0] = BodyConfig {
         initial_stress: InitialStress::Geostatic,
         particles_per_cell: 2,
@@ -31,7 +31,7 @@ fn collapse(formulation: FormulationKind, shape: ShapeFunctionKind) -> Config {
 /// one-thread part).
 fn fast_block(shape: ShapeFunctionKind) -> Config {
     let mut cfg = block(FormulationKind::PlaneStrain, shape, [0.0, 0.0], [0.0, 0.0]);
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.64, 0.64], cell_size: 0.01 };
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.64, 0.64], cell_size: 0.01, follow: None, experimental: false };
     cfg.bodies[0] = BodyConfig { particles_per_cell: 2, ..BodyConfig::rectangle("m", [0.05, 0.05], [0.35, 0.3]) };
     // c = √(E (1 − ν) / (ρ (1 + ν)(1 − 2ν))) ≈ 37 m/s for E = 1 MPa, ν = 0.3, ρ = 1000.
     cfg.bodies[0].velocity = [36.0, 10.0];

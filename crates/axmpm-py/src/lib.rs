@@ -351,6 +351,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material_key_errors, m)?)?;
     m.add_function(wrap_pyfunction!(rigid_body_errors, m)?)?;
     m.add_function(wrap_pyfunction!(reserved_names, m)?)?;
+    m.add("FOLLOW_IS_EXPERIMENTAL", axmpm_core::config::FOLLOW_IS_EXPERIMENTAL)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -267,11 +267,40 @@ def cross_check_parts(
         axisymmetric = None if sim is None else sim.formulation == "axisymmetric"
         end_time = None if sim is None else sim.end_time
         errors.extend(rigid_body_errors(rigid_bodies, frame, axisymmetric, end_time, len(walls or [])))
+    if grid is not None and grid.follow is not None:
+        errors.extend(_follow_errors(grid.follow, grid.experimental, materials, bodies, walls, rigid_bodies))
     if surcharges:
         taken = set(reserved_names(len(walls or [])))
         taken |= {b.name for b in rigid_bodies or [] if b is not None and b.name is not None}
         errors.extend(surcharge_errors(surcharges, frame, taken))
     errors.extend(probe_errors(probes, grid if grid_ok else None))
+    return errors
+
+
+def _follow_errors(
+    follow: str,
+    experimental: bool,
+    materials: dict[str, Any] | None,
+    bodies: list[Any] | None,
+    walls: list[Wall | None] | None,
+    rigid_bodies: list[Any | None] | None,
+) -> list[tuple[str, str]]:
+    """``grid.follow``: a rigid body's name, and nothing tied to fixed node rows."""
+    from .. import _core
+
+    errors: list[tuple[str, str]] = []
+    if not experimental:
+        errors.append(("grid.follow", _core.FOLLOW_IS_EXPERIMENTAL))
+    names = [b.name for b in rigid_bodies or [] if b is not None]
+    if rigid_bodies is not None and None not in rigid_bodies and follow not in names:
+        errors.append(("grid.follow", f"must name a rigid body ({', '.join(map(repr, names)) or 'there is none'}) "
+                       f"(got {follow!r})"))
+    if walls:
+        errors.append(("grid.follow", "cannot be combined with walls (their nodes are fixed): use the grid's faces"))
+    if any(b is not None and b.saturated is not None for b in bodies or []):
+        errors.append(("grid.follow", "cannot be combined with saturated bodies (their drainage faces are fixed rows)"))
+    if any(m is not None and m.model == "granular_fluidity" for m in (materials or {}).values()):
+        errors.append(("grid.follow", "cannot be combined with granular_fluidity materials (fixed cell boundaries)"))
     return errors
 
 

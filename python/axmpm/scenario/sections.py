@@ -95,6 +95,15 @@ class Grid(Section):
     origin: Vec2 = Field((0.0, 0.0), description="m; axisymmetric grids start at r = 0")
     extent: tuple[Positive, Positive] = Field(description="m, each a whole number of cells")  # type: ignore[valid-type]
     cell_size: Positive = Field(description="m")
+    follow: str | None = Field(
+        None,
+        description="name of a rigid body the grid moves with along y (modulo one cell), so that the "
+        "body keeps its place relative to the node rows: no node row enters or leaves its contact as "
+        "it penetrates (a pile, a cone, a footing pushed deep). Not with walls, saturated bodies or "
+        "granular_fluidity materials; the bottom and top faces then act on the node row at most one "
+        "cell outside the grid's extent. Experimental: needs experimental = true",
+    )
+    experimental: bool = Field(False, description="allow the experimental options (follow)")
 
     def cells(self) -> tuple[int, int]:
         """Number of cells in x (r) and y (z)."""

@@ -20,16 +20,25 @@ pub struct LineConstraint {
 impl LineConstraint {
     /// The faces that are not free, in the order left, right, bottom, top. In axisymmetry the
     /// left face is the axis ([`super::SymmetryAxis`]) whatever `faces.left` says.
-    pub fn faces(grid: &GridGeometry, faces: &BoundariesConfig, axisymmetric: bool) -> Vec<Self> {
+    ///
+    /// On a grid that moves along y (`moving_grid`, `grid.follow`) the scenario's bottom face
+    /// y_0 lies between the grid's first two node rows (y_0 − s and y_0 − s + h, 0 ≤ s < h), and
+    /// the bottom and top faces act on both: a condition on the outer row alone would let the
+    /// material over the face go (the lowest particles lose the outer row's support as s grows,
+    /// and a nearly incompressible layer on rollers then sinks as a block), whereas the two rows
+    /// hold it and constrain at most one cell of material that a fixed or roller face keeps
+    /// nearly at rest anyway.
+    pub fn faces(grid: &GridGeometry, faces: &BoundariesConfig, axisymmetric: bool, moving_grid: bool) -> Vec<Self> {
         let [nx, ny] = grid.nodes;
         let column = |i: usize| (0..ny).map(|j| grid.node_index(i, j) as u32).collect::<Vec<_>>();
-        let row = |j: usize| (0..nx).map(|i| grid.node_index(i, j) as u32).collect::<Vec<_>>();
+        let rows = |js: &[usize]| js.iter().flat_map(|&j| (0..nx).map(move |i| grid.node_index(i, j) as u32)).collect::<Vec<_>>();
+        let (bottom, top) = if moving_grid { (rows(&[0, 1]), rows(&[ny - 2, ny - 1])) } else { (rows(&[0]), rows(&[ny - 1])) };
         let left = if axisymmetric { BoundaryCondition::FREE } else { faces.left };
         [
             ("left", left, 0u8, -1.0, column(0)),
             ("right", faces.right, 0, 1.0, column(nx - 1)),
-            ("bottom", faces.bottom, 1, -1.0, row(0)),
-            ("top", faces.top, 1, 1.0, row(ny - 1)),
+            ("bottom", faces.bottom, 1, -1.0, bottom),
+            ("top", faces.top, 1, 1.0, top),
         ]
         .into_iter()
         .filter(|(_, bc, ..)| bc.condition != Condition::Free)

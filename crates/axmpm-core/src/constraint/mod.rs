@@ -367,9 +367,10 @@ impl Constraints {
     /// Faces (left, right, bottom, top; only those that are not free, and in axisymmetry no
     /// left face), the axis (axisymmetric runs), then the walls in scenario order (`wall_i`
     /// for `walls[i]`; free walls are left out).
-    pub fn new(grid: &GridGeometry, faces: &BoundariesConfig, walls: &[WallConfig], axisymmetric: bool) -> Self {
+    /// `moving_grid`: the grid follows a body along y (`LineConstraint::faces`).
+    pub fn new(grid: &GridGeometry, faces: &BoundariesConfig, walls: &[WallConfig], axisymmetric: bool, moving_grid: bool) -> Self {
         let mut list: Vec<Box<dyn Constraint>> = Vec::new();
-        for face in LineConstraint::faces(grid, faces, axisymmetric) {
+        for face in LineConstraint::faces(grid, faces, axisymmetric, moving_grid) {
             list.push(Box::new(face));
         }
         if axisymmetric {
@@ -625,7 +626,7 @@ mod tests {
         // Axisymmetric, no faces: the axis (a roller, v_r = 0 at r = 0) corrects the
         // re-mapped velocities like every other field (the trait's default `apply_remapped`).
         let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.5);
-        let mut cs = Constraints::new(&g, &BoundariesConfig::default(), &[], true);
+        let mut cs = Constraints::new(&g, &BoundariesConfig::default(), &[], true, false);
         let mass = vec![1.0; g.num_nodes()];
         let mut remapped = vec![[1.0, 2.0]; g.num_nodes()];
         cs.apply_remapped(&context(&g, &mass, 0.0), &mut remapped);
@@ -646,7 +647,7 @@ mod tests {
             coefficient: 0.0,
             removal_time: Some(0.1),
         };
-        let mut cs = Constraints::new(&g, &BoundariesConfig::default(), &[wall], false);
+        let mut cs = Constraints::new(&g, &BoundariesConfig::default(), &[wall], false, false);
         let mass = vec![1.0; g.num_nodes()];
         let node = g.node_index(1, 1);
         // Removed at its removal time exactly, as in `apply`.
@@ -681,7 +682,7 @@ mod tests {
             coefficient: 0.0,
             removal_time: Some(0.1),
         };
-        let mut cs = Constraints::new(&g, &faces, &[wall], true);
+        let mut cs = Constraints::new(&g, &faces, &[wall], true, false);
         assert_eq!(cs.list.len(), 2);
         assert_eq!(cs.reaction_names(), vec!["wall_0".to_string()]);
         let mass = vec![1.0; g.num_nodes()];
@@ -709,7 +710,7 @@ mod tests {
             bottom: BoundaryCondition::friction(0.5),
             ..Default::default()
         };
-        let mut cs = Constraints::new(&g, &faces, &[], false);
+        let mut cs = Constraints::new(&g, &faces, &[], false, false);
         assert_eq!(cs.reaction_names(), vec!["left".to_string(), "bottom".to_string()]);
         let mass: Vec<f64> = (0..g.num_nodes()).map(|n| 1.0 + n as f64).collect();
         let mut v = vec![[2.0, -1.0]; g.num_nodes()];

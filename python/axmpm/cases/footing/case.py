@@ -73,17 +73,20 @@ class Footing:
         parser.add_argument("--footing-contact", choices=("nodes", "penalty"), default="nodes",
                             help="footing: the rigid body's contact enforcement (default nodes; "
                             "docs/studies/contact-remedies.md compares them)")
+        parser.add_argument("--footing-grid", choices=("fixed", "follow"), default="fixed",
+                            help="footing: a fixed grid, or one that follows the footing (grid.follow)")
 
     def runs(self, options: argparse.Namespace) -> list[RunSpec]:
         contact = getattr(options, "footing_contact", "nodes") or "nodes"
+        grid = getattr(options, "footing_grid", "fixed") or "fixed"
         return [RunSpec(run_name(f, r, n), {"formulation": f, "roughness": r, "cells_per_width": n,
-                                            "scheme": SCHEME, "contact": contact})
+                                            "scheme": SCHEME, "contact": contact, "grid": grid})
                 for n in meshes_of(options) for f, r in CASES]
 
     def scenario(self, run: RunSpec) -> Any:
         p = run.params
         return footing_scenario(p["formulation"], p["roughness"], p["cells_per_width"], p["scheme"],
-                                p.get("contact", "nodes"))
+                                p.get("contact", "nodes"), p.get("grid", "fixed"))
 
     def reference(self, run: RunSpec) -> dict[str, Any]:
         return {"bearing_capacity_factor": EXACT[(run.params["formulation"], run.params["roughness"])]}

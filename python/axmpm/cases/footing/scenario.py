@@ -106,9 +106,12 @@ def footing_area(formulation: str) -> float:
 
 
 def footing_scenario(formulation: str = "plane_strain", roughness: str = "smooth", cells_per_width: int = 20,
-                     shape_function: str = "cpgimp", contact: str = "nodes") -> Scenario:
+                     shape_function: str = "cpgimp", contact: str = "nodes", grid: str = "fixed") -> Scenario:
     """The footing scenario (module doc) at B/h = ``cells_per_width``, the footing's contact
-    enforced by ``contact`` (``"nodes"``, or the experimental ``"penalty"``)."""
+    enforced by ``contact`` (``"nodes"``, or the experimental ``"penalty"``), on a ``grid`` that
+    is ``"fixed"`` or ``"follow"``s the footing (``grid.follow``)."""
+    if grid not in ("fixed", "follow"):
+        raise ValueError(f"grid must be fixed or follow (got {grid!r})")
     if formulation not in ("plane_strain", "axisymmetric"):
         raise ValueError(f"formulation must be plane_strain or axisymmetric (got {formulation!r})")
     if roughness not in ("smooth", "rough"):
@@ -128,7 +131,8 @@ def footing_scenario(formulation: str = "plane_strain", roughness: str = "smooth
             "volumetric_averaging": "cell",
             "flip_fraction": 0.999,
         },
-        "grid": {"origin": [0.0, 0.0], "extent": [SOIL_HALF_WIDTH, grid_top], "cell_size": h},
+        "grid": {"origin": [0.0, 0.0], "extent": [SOIL_HALF_WIDTH, grid_top], "cell_size": h,
+                 "follow": "footing" if grid == "follow" else None, "experimental": grid == "follow"},
         "materials": {
             "clay": {"model": "mohr_coulomb", "density": DENSITY, "youngs_modulus": YOUNGS_MODULUS,
                      "poisson_ratio": POISSON_RATIO, "friction_angle": 0.0, "cohesion": UNDRAINED_STRENGTH},
