@@ -1592,6 +1592,32 @@ mod tests {
         assert!((total[0] - 1.0).abs() < 1e-9 && (total[1] - 6.0).abs() < 1e-9, "{total:?}");
     }
 
+    /// The energy of the contact by hand: the plate's base (normal −y) moving down at 1 m/s
+    /// over one node of mass 2 sliding at 0.5 m/s, Coulomb 0.2: the node approaches at 1 m/s,
+    /// keeps 0.5 − 0.2 × 1 = 0.3 m/s of slip, so j = 2 (0.2, 1) = (0.4, 2); the slip left
+    /// dissipates j·(v_after − w) = 0.4 × 0.3 = 0.12 J, and the step's work on the material is
+    /// −J·w = 2 J. Unrecorded calls book nothing.
+    #[test]
+    fn the_contact_books_the_slip_dissipation_and_the_work() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let mut b = build(json!([square_body(json!({"velocity": [0.0, -1.0], "friction": 0.2}))]), false).unwrap().pop().unwrap();
+        let mut mass = vec![0.0; grid.num_nodes()];
+        let node = grid.node_index(2, 2);
+        mass[node] = 2.0;
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: false };
+        let mut v = vec![[0.0; 2]; grid.num_nodes()];
+        v[node] = [0.5, 0.0];
+        b.apply(&context, &mut v, false);
+        assert_eq!(b.dissipated_energy(), [0.0, 0.0]);
+        v[node] = [0.5, 0.0];
+        b.apply(&context, &mut v, true);
+        assert!((v[node][0] - 0.3).abs() < 1e-12 && (v[node][1] + 1.0).abs() < 1e-12, "{:?}", v[node]);
+        let [normal, slip] = b.dissipated_energy();
+        assert!(normal == 0.0 && (slip - 0.12).abs() < 1e-12, "{slip}");
+        b.end_step(0.0, 1e-13, 1.0, false);
+        assert!((b.work() - 2.0).abs() < 1e-9, "{}", b.work());
+    }
+
     /// Nodes outside the body count as covered up to the reach: with the plate's base at
     /// y = 0.5 and the node row j = 1 at y = 0.25, a reach of 0.3 takes in row 1 under the base
     /// (normal −y), a reach of 0.2 leaves it free; nodes beside the plate stay free either way.
