@@ -413,17 +413,17 @@ impl Simulation {
             };
             let gravity = self.gravity();
             self.state.load_factor = self.load_factor();
-            let (start, axisymmetric) = (self.state.time, self.state.parameters.axisymmetric);
+            let start = self.state.time;
             // The force-driven bodies' velocity change of the step without the contact, for
             // the contact's body velocity (constraint/rigid_body.rs, "Force-driven bodies").
-            self.state.constraints.begin_rigid_body_step(start, dt, gravity, axisymmetric);
+            self.state.constraints.begin_rigid_body_step(start, dt, gravity);
             let step_fn = self.scheme.step;
             let state = &mut self.state;
             let result = self.pool.install(|| step_fn(state, dt, gravity));
             let g = &self.config.grid;
             let upper = [g.origin[0] + g.extent[0], g.origin[1] + g.extent[1]];
             let (total, origin) = (self.total_factor(), g.origin);
-            let bodies = self.state.constraints.end_rigid_body_step(start, dt, total, axisymmetric, origin, upper);
+            let bodies = self.state.constraints.end_rigid_body_step(start, dt, total, origin, upper);
             if lands {
                 self.state.time = until;
             }

@@ -45,7 +45,7 @@ fn free_flight_is_exact() {
         cfg.boundaries.bottom = BoundaryCondition::FIXED;
         let (v0, force) = if axisymmetric { ([0.0, 3.0], [0.0, 200.0]) } else { ([1.5, 3.0], [-60.0, 200.0]) };
         let mass = 50.0;
-        cfg.rigid_bodies = vec![table(json!({"name": "plate", "shape": "rectangle", "min": [0.0, 1.0], "max": [0.2, 1.1],
+        cfg.rigid_bodies = vec![table(json!({"name": "plate", "shape": "rectangle", "min": [0.5, 1.0], "max": [0.7, 1.1],
                                                "mass": mass, "initial_velocity": v0,
                                                "force": [[0.0, force[0], force[1]]]}))];
         let mut sim = Simulation::new(cfg, 1).unwrap();

@@ -436,28 +436,26 @@ impl Constraints {
     }
 
     /// Before a step [t, t + dt] under `gravity`: [`RigidBody::begin_step`] of every body.
-    pub fn begin_rigid_body_step(&mut self, time: f64, dt: f64, gravity: [f64; 2], axisymmetric: bool) {
+    pub fn begin_rigid_body_step(&mut self, time: f64, dt: f64, gravity: [f64; 2]) {
         for body in self.rigid_bodies_mut() {
-            body.begin_step(time, dt, gravity, axisymmetric);
+            body.begin_step(time, dt, gravity);
         }
     }
 
     /// After that step: [`RigidBody::end_step`] of every body, then the first force-driven
     /// body outside the grid `lower..upper` at the step's end `time + dt`, if any
     /// ([`RigidBody::left_grid`]).
-    #[allow(clippy::too_many_arguments)]
     pub fn end_rigid_body_step(
         &mut self,
         time: f64,
         dt: f64,
         total_factor: f64,
-        axisymmetric: bool,
         lower: [f64; 2],
         upper: [f64; 2],
     ) -> Result<(), String> {
         let mut failure = None;
         for body in self.rigid_bodies_mut() {
-            body.end_step(time, dt, total_factor, axisymmetric);
+            body.end_step(time, dt, total_factor);
             if failure.is_none() {
                 failure = body.left_grid(time + dt, lower, upper);
             }

@@ -1,5 +1,5 @@
-//! Rigid bodies with a prescribed motion in frictional, adhesive contact with the material
-//! (`docs/physics.md` §8).
+//! Rigid bodies with a prescribed motion or driven by a force, in frictional, adhesive contact
+//! with the material (`docs/physics.md` §8).
 //!
 //! # Scenario
 //!
@@ -26,6 +26,36 @@
 //! integral D(t) = ∫₀ᵗ v dt of that velocity ([`Motion::displacement`]): a pure function of time,
 //! so a run resumed from a checkpoint moves the body bit for bit as an uninterrupted one. In
 //! axisymmetry only axial motion is allowed (every vx = 0) and the region must lie at r ≥ 0.
+//!
+//! # Force-driven bodies
+//!
+//! A body with `mass` M (kg, whole body: per metre in plane strain, the whole ring in
+//! axisymmetry), an optional `force = [[t, fx, fy], ...]` table F(t) (N, linear between rows,
+//! constant outside) and an optional `initial_velocity` has no prescribed path: it moves under
+//! F, gravity g (the material's of the step, with the ramp) and the contact impulse J the
+//! material exerts on it ([`Dynamics`]). Its displacement X and velocity V are its state (in
+//! the checkpoint). A step t → t + Δt:
+//!
+//! * [`RigidBody::begin_step`]: ΔV_ext = ∫ₜ^{t+Δt} F dt / M + g Δt (exact for the
+//!   piecewise-linear F) and w₀ = V + ΔV_ext/2; the contact geometry is the body at X + Δt w₀;
+//! * the recorded contact solves the body's velocity w with its reaction,
+//!   M_b (w − w₀) = J(w) ([`RigidBody::contact_velocity`], M_b = M per metre or per radian):
+//!   the velocity the body and its covered nodes reach together. With w₀ alone (the reaction a
+//!   step late) a body lighter than the nodes it covers is thrown back faster than it came;
+//! * [`RigidBody::end_step`]: X ← X + Δt w, V ← V + ΔV_ext + J/M.
+//!
+//! Without contact X(t + Δt) = X + Δt (V + ΔV_ext/2) = X + V Δt + a Δt²/2 for a constant
+//! acceleration a: the trapezoid of a linear velocity is exact, so x(t) = x₀ + v₀ t + a t²/2 for
+//! any sequence of steps. The body receives exactly the impulse the material loses (momentum
+//! conserved between them). In axisymmetry only the axial components move the body.
+//!
+//! # Energy
+//!
+//! The work a body does on the material in a step is −J·w (J its contact impulse, w its
+//! velocity over the step), summed in [`RigidBody::work`] (the budget's `rigid_body_work`);
+//! the slip the contact leaves at a node, v_after − w, dissipates j·(v_after − w) ≥ 0
+//! (j = m (v_before − v_after): Coulomb or adhesion reduce the slip without reversing it), the
+//! tangential part of [`Constraint::dissipated_energy`].
 //!
 //! # Contact (Bardenhagen, Brackbill & Sulsky 2000; Bardenhagen et al. 2001)
 //!
@@ -319,6 +349,9 @@ pub struct Dynamics {
     /// The body's velocity over the current step with the contact, once solved
     /// ([`RigidBody::contact_velocity`]).
     contact: Option<[f64; 2]>,
+    /// The body moves along y only: a body of revolution (axisymmetry), or a body resting on
+    /// the grid's left edge, the symmetry plane of a half model (mirrored for the contact).
+    axial_only: bool,
 }
 
 impl Dynamics {
@@ -443,8 +476,9 @@ impl RigidBody {
 
     /// Before a step [t, t + dt] under `gravity` (the acceleration the material gets in that
     /// step): a force-driven body's velocity change without the contact,
-    /// ΔV_ext = ∫ₜ^{t+dt} F dt / M + g dt (axial only in axisymmetry). Nothing for a prescribed body.
-    pub fn begin_step(&mut self, time: f64, dt: f64, gravity: [f64; 2], axisymmetric: bool) {
+    /// ΔV_ext = ∫ₜ^{t+dt} F dt / M + g dt (axial only for a body of revolution or on a symmetry
+    /// plane). Nothing for a prescribed body.
+    pub fn begin_step(&mut self, time: f64, dt: f64, gravity: [f64; 2]) {
         if let Kinematics::Driven(d) = &mut self.kinematics {
             let impulse = match &d.force {
                 Some(f) => {
@@ -454,7 +488,7 @@ impl RigidBody {
                 None => [0.0; 2],
             };
             d.kick = [impulse[0] / d.mass + gravity[0] * dt, impulse[1] / d.mass + gravity[1] * dt];
-            if axisymmetric {
+            if d.axial_only {
                 d.kick[0] = 0.0;
             }
             d.contact = None;
@@ -464,14 +498,15 @@ impl RigidBody {
     /// After the step begun by [`RigidBody::begin_step`] (same `time`, `dt`): books the work
     /// the body did on the material, −J·w with J the step's contact impulse, and moves a
     /// force-driven body: X ← X + dt w, V ← V + ΔV_ext + J_body/M, J_body = `total_factor` × J
-    /// (the whole body's impulse: 2π per radian in axisymmetry, where only its axial part
-    /// moves the body). The impulse the body receives is the momentum the material lost.
-    pub fn end_step(&mut self, time: f64, dt: f64, total_factor: f64, axisymmetric: bool) {
+    /// (the whole body's impulse: 2π per radian in axisymmetry; only its axial part moves a
+    /// body of revolution or one on a symmetry plane). The impulse the body receives is the
+    /// momentum the material lost.
+    pub fn end_step(&mut self, time: f64, dt: f64, total_factor: f64) {
         let (_, _, w) = self.step_motion(time, dt);
         let j = std::mem::take(&mut self.step_impulse);
         self.work -= j[0] * w[0] + j[1] * w[1];
         if let Kinematics::Driven(d) = &mut self.kinematics {
-            let radial = if axisymmetric { 0.0 } else { 1.0 };
+            let radial = if d.axial_only { 0.0 } else { 1.0 };
             d.displacement[0] += dt * w[0];
             d.displacement[1] += dt * w[1];
             d.velocity[0] += d.kick[0] + radial * total_factor * j[0] / d.mass;
@@ -628,7 +663,7 @@ impl RigidBody {
     /// Newton: each node that the contact corrects holds the body in the direction d of its
     /// correction, so ∂J/∂w ≈ −Σ m d dᵀ, and w ← w + (M_b I + Σ m d dᵀ)⁻¹ (M_b (w₀ − w) + J(w)),
     /// exact for a frictionless contact in one direction once the nodes in contact no longer
-    /// change. Axial only in axisymmetry.
+    /// change. Axial only (`axial_only`) for a body of revolution or on a symmetry plane.
     fn contact_velocity(
         &self,
         context: &NodalContext,
@@ -636,7 +671,7 @@ impl RigidBody {
         offset: [f64; 2],
         w0: [f64; 2],
         mass: f64,
-        axisymmetric: bool,
+        axial_only: bool,
     ) -> [f64; 2] {
         let mut w = w0;
         for _ in 0..CONTACT_ITERATIONS {
@@ -653,7 +688,7 @@ impl RigidBody {
                 }
             });
             let r = [mass * (w0[0] - w[0]) + impulse[0], mass * (w0[1] - w[1]) + impulse[1]];
-            let step = if axisymmetric {
+            let step = if axial_only {
                 [0.0, r[1] / (mass + k[2])]
             } else {
                 let (a, b, c) = (mass + k[0], k[1], mass + k[2]);
@@ -872,9 +907,8 @@ impl Constraint for RigidBody {
         if record {
             if let Kinematics::Driven(d) = &self.kinematics {
                 // The body's mass per radian or per metre, as the nodes' and the impulse's.
-                let axisymmetric = context.axisymmetric;
-                let mass = d.mass / if axisymmetric { std::f64::consts::TAU } else { 1.0 };
-                w = self.contact_velocity(context, velocity, offset, w, mass, axisymmetric);
+                let mass = d.mass / if context.axisymmetric { std::f64::consts::TAU } else { 1.0 };
+                w = self.contact_velocity(context, velocity, offset, w, mass, d.axial_only);
                 if let Kinematics::Driven(d) = &mut self.kinematics {
                     d.contact = Some(w);
                 }
@@ -1087,7 +1121,9 @@ impl RigidBody {
         }
         let (lo, hi) = region.bounding_box();
         let polygon = region.outline();
-        let contact = polygon.mirrored_about(grid_lower[0]).unwrap_or(polygon);
+        let mirror = polygon.mirrored_about(grid_lower[0]);
+        let on_symmetry_plane = mirror.is_some();
+        let contact = mirror.unwrap_or(polygon);
         let span = (grid_upper[0] - grid_lower[0]).max(grid_upper[1] - grid_lower[1]);
         let tol = 1e-9 * span;
         if lo[0] < grid_lower[0] - tol
@@ -1101,7 +1137,19 @@ impl RigidBody {
         }
         let axial_only = "must be 0 in axisymmetric runs (only axial motion of a body of revolution";
         if config.mass.is_some() {
-            let kinematics = driven(&context, config, axisymmetric, axial_only)?;
+            // A body of revolution, or a body on the half model's symmetry plane (the grid's
+            // left edge, where it is mirrored for the contact), moves along y only.
+            let reason = if axisymmetric {
+                axial_only.to_string()
+            } else {
+                format!(
+                    "must be 0 for a body resting on the grid's left edge x = {} (the symmetry plane of a half model: \
+                     it moves along y only",
+                    grid_lower[0]
+                )
+            };
+            let along_y = axisymmetric || on_symmetry_plane;
+            let kinematics = driven(&context, config, along_y.then_some(reason.as_str()))?;
             return finish(context, config, region, contact, kinematics, lo, tol, axisymmetric);
         }
         for (key, given) in [("force", config.force.is_some()), ("initial_velocity", config.initial_velocity.is_some())] {
@@ -1163,7 +1211,8 @@ impl RigidBody {
 
 /// A table's `mass`, `force` and `initial_velocity` as a force-driven body's [`Dynamics`]
 /// (errors name the key and the allowed range).
-fn driven(context: &str, config: &RigidBodyConfig, axisymmetric: bool, axial_only: &str) -> Result<Kinematics, String> {
+/// `axial_only`: why the body moves along y only (None: it moves freely).
+fn driven(context: &str, config: &RigidBodyConfig, axial_only: Option<&str>) -> Result<Kinematics, String> {
     for (key, given) in [("velocity", config.velocity.is_some()), ("motion", config.motion.is_some())] {
         if given {
             return Err(format!(
@@ -1183,8 +1232,8 @@ fn driven(context: &str, config: &RigidBodyConfig, axisymmetric: bool, axial_onl
     if velocity.iter().any(|v| !v.is_finite()) {
         return Err(format!("{context}.initial_velocity: must be finite m/s (got {velocity:?})"));
     }
-    if axisymmetric && velocity[0] != 0.0 {
-        return Err(format!("{context}.initial_velocity[0]: {axial_only}; got {})", velocity[0]));
+    if let Some(reason) = axial_only.filter(|_| velocity[0] != 0.0) {
+        return Err(format!("{context}.initial_velocity[0]: {reason}; got {})", velocity[0]));
     }
     let force = match &config.force {
         None => None,
@@ -1204,14 +1253,15 @@ fn driven(context: &str, config: &RigidBodyConfig, axisymmetric: bool, axial_onl
                 if k > 0 && !(row[0] > rows[k - 1][0]) {
                     return Err(format!("{rk}[0]: times must increase strictly (got {} after {})", row[0], rows[k - 1][0]));
                 }
-                if axisymmetric && row[1] != 0.0 {
-                    return Err(format!("{rk}[1]: fx {axial_only}; got {})", row[1]));
+                if let Some(reason) = axial_only.filter(|_| row[1] != 0.0) {
+                    return Err(format!("{rk}[1]: fx {reason}; got {})", row[1]));
                 }
             }
             Some(Motion::table(rows))
         }
     };
-    Ok(Kinematics::Driven(Dynamics { mass, force, displacement: [0.0; 2], velocity, kick: [0.0; 2], contact: None }))
+    Ok(Kinematics::Driven(Dynamics { mass, force, displacement: [0.0; 2], velocity, kick: [0.0; 2], contact: None,
+        axial_only: axial_only.is_some() }))
 }
 
 /// The checks and settings every rigid body shares after its motion: the contact, the region
@@ -1480,6 +1530,13 @@ mod tests {
         assert!(e.starts_with("rigid_bodies[0].force[0][1]: fx must be 0 in axisymmetric runs"), "{e}");
         let e = err(square_body(json!({"mass": 1.0, "initial_velocity": [0.5, 0.0]})), true);
         assert!(e.starts_with("rigid_bodies[0].initial_velocity[0]: must be 0 in axisymmetric runs"), "{e}");
+        // On the half model's symmetry plane (the grid's left edge) a body moves along y only.
+        let half = json!({"name": "footing", "min": [0.0, 0.5], "max": [0.25, 0.75], "mass": 1.0,
+                          "force": [[0.0, 0.5, -1.0]]});
+        let e = err(half, false);
+        assert!(e.starts_with("rigid_bodies[0].force[0][1]: fx must be 0 for a body resting on the grid's left edge"), "{e}");
+        let half = json!({"name": "footing", "min": [0.0, 0.5], "max": [0.25, 0.75], "mass": 1.0, "initial_velocity": [0.1, 0.0]});
+        assert!(err(half, false).starts_with("rigid_bodies[0].initial_velocity[0]: must be 0 for a body resting"));
         let e = err(square_body(json!({"mass": 1.0, "contact": "penalty", "experimental": true})), false);
         assert!(e.starts_with("rigid_bodies[0].contact: a force-driven body"), "{e}");
         let ok = build(json!([square_body(json!({"mass": 2.0, "force": [[0.0, 0.0, -1.0], [1.0, 0.0, -3.0]],
@@ -1501,14 +1558,14 @@ mod tests {
         let body = square_body(json!({"mass": 2.0, "initial_velocity": [0.5, -1.0],
                                       "force": [[0.0, 2.0, -4.0], [1.0, 4.0, -8.0]]}));
         let mut b = build(json!([body]), false).unwrap().pop().unwrap();
-        b.begin_step(0.5, 0.1, [0.0, -10.0], false);
+        b.begin_step(0.5, 0.1, [0.0, -10.0]);
         let close = |a: [f64; 2], e: [f64; 2]| (a[0] - e[0]).abs() < 1e-14 && (a[1] - e[1]).abs() < 1e-14;
         let kick = [0.155, -1.31];
         let w = [0.5 + 0.5 * kick[0], -1.0 + 0.5 * kick[1]];
         let (start, end, mean) = b.step_motion(0.5, 0.1);
         assert!(start == [0.0; 2] && close(mean, w) && close(end, [0.1 * w[0], 0.1 * w[1]]), "{end:?} {mean:?}");
         b.step_impulse = [0.3, 0.8];
-        b.end_step(0.5, 0.1, 1.0, false);
+        b.end_step(0.5, 0.1, 1.0);
         assert!(close(b.displacement(0.6), [0.1 * w[0], 0.1 * w[1]]), "{:?}", b.displacement(0.6));
         let v = [0.5 + kick[0] + 0.3 / 2.0, -1.0 + kick[1] + 0.8 / 2.0];
         assert!(close(b.velocity(0.6), v), "{:?} vs {v:?}", b.velocity(0.6));
@@ -1522,16 +1579,23 @@ mod tests {
         // Axisymmetric: the whole ring's impulse is 2π times the per-radian one, axial only.
         let body = square_body(json!({"mass": 2.0, "initial_velocity": [0.0, -1.0], "force": [[0.0, 0.0, -4.0]]}));
         let mut b = build(json!([body]), true).unwrap().pop().unwrap();
-        b.begin_step(0.0, 0.1, [1.0, -10.0], true);
+        b.begin_step(0.0, 0.1, [1.0, -10.0]);
         b.step_impulse = [0.3, 0.8];
-        b.end_step(0.0, 0.1, std::f64::consts::TAU, true);
+        b.end_step(0.0, 0.1, std::f64::consts::TAU);
         let v = b.velocity(0.1);
         assert!(v[0] == 0.0 && (v[1] - (-1.0 - 0.2 - 1.0 + std::f64::consts::TAU * 0.8 / 2.0)).abs() < 1e-14, "{v:?}");
         assert!((b.displacement(0.1)[1] - 0.1 * (-1.0 - 0.6)).abs() < 1e-15);
+        // A body on the symmetry plane (plane strain) keeps vx = 0 whatever the impulse.
+        let half = json!({"name": "footing", "min": [0.0, 0.5], "max": [0.25, 0.75], "mass": 2.0});
+        let mut b = build(json!([half]), false).unwrap().pop().unwrap();
+        b.begin_step(0.0, 0.1, [1.0, 0.0]);
+        b.step_impulse = [0.3, 0.8];
+        b.end_step(0.0, 0.1, 1.0);
+        assert_eq!(b.velocity(0.1), [0.0, 0.4]);
         // A prescribed body books its work too, and does not move by it.
         let mut p = build(json!([square_body(json!({"velocity": [0.0, -2.0]}))]), false).unwrap().pop().unwrap();
         p.step_impulse = [1.0, 3.0];
-        p.end_step(0.0, 0.1, 1.0, false);
+        p.end_step(0.0, 0.1, 1.0);
         assert!((p.work() - 6.0).abs() < 1e-15, "{}", p.work());
         assert!((p.displacement(0.1)[1] + 0.2).abs() < 1e-15);
     }
@@ -1614,7 +1678,7 @@ mod tests {
         assert!((v[node][0] - 0.3).abs() < 1e-12 && (v[node][1] + 1.0).abs() < 1e-12, "{:?}", v[node]);
         let [normal, slip] = b.dissipated_energy();
         assert!(normal == 0.0 && (slip - 0.12).abs() < 1e-12, "{slip}");
-        b.end_step(0.0, 1e-13, 1.0, false);
+        b.end_step(0.0, 1e-13, 1.0);
         assert!((b.work() - 2.0).abs() < 1e-9, "{}", b.work());
     }
 
