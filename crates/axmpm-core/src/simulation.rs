@@ -107,7 +107,7 @@ struct Checkpoint {
     #[serde(default)]
     tiles: Vec<Tile>,
     /// Per rigid body in scenario order, its state (a force-driven body's displacement and
-    /// velocity, every body's work); absent in older checkpoints (then each body restarts from
+    /// velocities, every body's work); absent in older checkpoints (then each body restarts from
     /// its initial state).
     #[serde(default)]
     rigid_bodies: Vec<crate::constraint::rigid_body::RigidBodyState>,
@@ -582,12 +582,20 @@ impl Simulation {
         self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.displacement(t))).collect()
     }
 
-    /// Velocity of each rigid body at the current time, m/s: the prescribed one, or a
-    /// force-driven body's.
+    /// Velocity of each rigid body at the current time, m/s: the prescribed one, or the one a
+    /// force-driven body moved with over the last step.
     pub fn rigid_body_velocities(&self) -> Vec<(String, [f64; 2])> {
         use crate::constraint::Constraint;
         let t = self.state.time;
         self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.velocity(t))).collect()
+    }
+
+    /// Per rigid body, what a checkpoint keeps of it (a force-driven body's displacement X and
+    /// integration velocity V, its velocity over the last step, the work it has done on the
+    /// material per metre or radian; `constraint::rigid_body::RigidBodyState`).
+    pub fn rigid_body_states(&self) -> Vec<(String, crate::constraint::rigid_body::RigidBodyState)> {
+        use crate::constraint::Constraint;
+        self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.state())).collect()
     }
 
     /// Per rigid body, its outline (counter-clockwise vertices, m) at the current time.
