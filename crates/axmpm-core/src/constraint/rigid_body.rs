@@ -1694,6 +1694,52 @@ mod tests {
         assert!((b.work() - 2.0).abs() < 1e-9, "{}", b.work());
     }
 
+    /// A force-driven plate (2 kg per metre, no force, no gravity) meets material at rest: the
+    /// three base nodes of the 4 × 4 grid (mass 1 each) and the plate end the step with one
+    /// velocity, the centre of mass one: moving down at 1 m/s, smooth: 2 × (−1)/(2 + 3) = −0.4
+    /// m/s; moving at (1, −1) m/s, rough: (0.4, −0.4). The nodes take the impulse −J, the
+    /// plate +J (J = 3 × 0.4 per component), so the momentum 2 × w₀ is kept; the re-map of the
+    /// step uses the same velocity.
+    #[test]
+    fn a_force_driven_body_and_the_nodes_it_hits_share_one_velocity() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let mut mass = vec![0.0; grid.num_nodes()];
+        let base = [grid.node_index(1, 2), grid.node_index(2, 2), grid.node_index(3, 2)];
+        for &n in &base {
+            mass[n] = 1.0;
+        }
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: false };
+        for (v0, friction, w) in [([0.0, -1.0], json!(0.0), [0.0, -0.4]), ([1.0, -1.0], json!("rough"), [0.4, -0.4])] {
+            let body = square_body(json!({"mass": 2.0, "initial_velocity": v0, "friction": friction}));
+            let mut b = build(json!([body]), false).unwrap().pop().unwrap();
+            b.begin_step(0.0, 1e-13, [0.0, 0.0]);
+            let mut v = vec![[0.0; 2]; grid.num_nodes()];
+            b.apply(&context, &mut v, true);
+            for &n in &base {
+                assert!((v[n][0] - w[0]).abs() < 1e-12 && (v[n][1] - w[1]).abs() < 1e-12, "{friction}: {:?}", v[n]);
+            }
+            let mut remapped = vec![[0.0; 2]; grid.num_nodes()];
+            b.apply(&context, &mut remapped, false);
+            assert_eq!(remapped[base[1]], v[base[1]], "{friction}: the re-map uses the solved velocity");
+            let j = b.step_impulse;
+            assert!((j[0] + 3.0 * w[0]).abs() < 1e-12 && (j[1] + 3.0 * w[1]).abs() < 1e-12, "{friction}: {j:?}");
+            b.end_step(0.0, 1e-13, 1.0);
+            let v_body = b.state().velocity;
+            for c in 0..2 {
+                assert!((2.0 * v_body[c] + 3.0 * w[c] - 2.0 * v0[c]).abs() < 1e-12, "{friction}: momentum {v_body:?}");
+                assert!((b.velocity(0.0)[c] - w[c]).abs() < 1e-12);
+            }
+        }
+        // Axisymmetric: the same per radian with the ring's mass 2π × 2 kg, axial only.
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: true };
+        let body = square_body(json!({"mass": 2.0 * std::f64::consts::TAU, "initial_velocity": [0.0, -1.0]}));
+        let mut b = build(json!([body]), true).unwrap().pop().unwrap();
+        b.begin_step(0.0, 1e-13, [0.0, 0.0]);
+        let mut v = vec![[0.0; 2]; grid.num_nodes()];
+        b.apply(&context, &mut v, true);
+        assert!((v[base[1]][1] + 0.4).abs() < 1e-12 && v[base[1]][0] == 0.0, "{:?}", v[base[1]]);
+    }
+
     /// Nodes outside the body count as covered up to the reach: with the plate's base at
     /// y = 0.5 and the node row j = 1 at y = 0.25, a reach of 0.3 takes in row 1 under the base
     /// (normal −y), a reach of 0.2 leaves it free; nodes beside the plate stay free either way.
