@@ -48,3 +48,20 @@ pub fn block(
 pub const ALL_SHAPES: [ShapeFunctionKind; 4] =
     [ShapeFunctionKind::Linear, ShapeFunctionKind::Ugimp, ShapeFunctionKind::Cpgimp, ShapeFunctionKind::Cpdi2];
 pub const ALL_FORMULATIONS: [FormulationKind; 2] = [FormulationKind::PlaneStrain, FormulationKind::Axisymmetric];
+
+/// A rigid body's table from JSON (the scenario's keys).
+pub fn rigid_body_table(v: serde_json::Value) -> RigidBodyConfig {
+    serde_json::from_value(v).unwrap()
+}
+
+/// Total momentum of the material (whole body: × 2π in axisymmetry), kg m/s.
+pub fn material_momentum(sim: &axmpm_core::Simulation) -> [f64; 2] {
+    let total = sim.total_factor();
+    let p = sim.particles();
+    let mut m = [0.0; 2];
+    for i in 0..p.len() {
+        m[0] += total * p.mass[i] * p.velocity[i][0];
+        m[1] += total * p.mass[i] * p.velocity[i][1];
+    }
+    m
+}

@@ -1,29 +1,14 @@
 //! Force-driven rigid bodies (`constraint/rigid_body.rs`, "Force-driven bodies"): exact free
 //! flight, momentum conserved between the body and the material, thread-count and checkpoint
-//! independence, the failure of a body that leaves the grid; and the energy budget of rigid
-//! bodies pushing the material ("Energy").
+//! independence, the failure of a body that leaves the grid (the bodies' energy: tests/energy.rs).
 mod common;
 
 use axmpm_core::config::*;
 use axmpm_core::Simulation;
 use common::*;
-use serde_json::{json, Value};
+use serde_json::json;
 
-fn table(v: Value) -> RigidBodyConfig {
-    serde_json::from_value(v).unwrap()
-}
-
-/// Total momentum of the material (whole body: × 2π in axisymmetry), kg m/s.
-fn momentum(sim: &Simulation) -> [f64; 2] {
-    let total = sim.total_factor();
-    let p = sim.particles();
-    let mut m = [0.0; 2];
-    for i in 0..p.len() {
-        m[0] += total * p.mass[i] * p.velocity[i][0];
-        m[1] += total * p.mass[i] * p.velocity[i][1];
-    }
-    m
-}
+use common::{material_momentum as momentum, rigid_body_table as table};
 
 /// A force-driven body's displacement X and integration velocity V (the body's momentum is M V).
 fn body_state(sim: &Simulation, name: &str) -> ([f64; 2], [f64; 2]) {

@@ -6,22 +6,9 @@ mod common;
 use axmpm_core::config::*;
 use axmpm_core::Simulation;
 use common::*;
-use serde_json::{json, Value};
+use serde_json::json;
 
-fn table(v: Value) -> RigidBodyConfig {
-    serde_json::from_value(v).unwrap()
-}
-
-fn momentum(sim: &Simulation) -> [f64; 2] {
-    let total = sim.total_factor();
-    let p = sim.particles();
-    let mut m = [0.0; 2];
-    for i in 0..p.len() {
-        m[0] += total * p.mass[i] * p.velocity[i][0];
-        m[1] += total * p.mass[i] * p.velocity[i][1];
-    }
-    m
-}
+use common::{material_momentum as momentum, rigid_body_table as table};
 
 /// Every formulation, scheme and FLIP fraction of `flips`, with each contact enforcement.
 fn cases_with_contact(flips: &[f64]) -> Vec<(FormulationKind, ShapeFunctionKind, f64, &'static str)> {

@@ -1182,26 +1182,8 @@ impl RigidBody {
                 Motion::constant(*velocity)
             }
             (None, Some(rows)) => {
-                let key = format!("{context}.motion");
-                if rows.is_empty() {
-                    return Err(format!("{key}: must be a non-empty list of rows [t, vx, vy]"));
-                }
-                for (k, row) in rows.iter().enumerate() {
-                    let rk = format!("{key}[{k}]");
-                    if row.iter().any(|v| !v.is_finite()) {
-                        return Err(format!("{rk}: must be finite (got {row:?})"));
-                    }
-                    if k == 0 && row[0] < 0.0 {
-                        return Err(format!("{rk}[0]: the first time must be >= 0 (got {})", row[0]));
-                    }
-                    if k > 0 && !(row[0] > rows[k - 1][0]) {
-                        return Err(format!("{rk}[0]: times must increase strictly (got {} after {})", row[0], rows[k - 1][0]));
-                    }
-                    if axisymmetric && row[1] != 0.0 {
-                        return Err(format!("{rk}[1]: vx {axial_only}; got {})", row[1]));
-                    }
-                }
-                Motion::table(rows)
+                let reason = axial_only.to_string();
+                checked_table(&format!("{context}.motion"), rows, "[t, vx, vy]", "vx", axisymmetric.then_some(reason.as_str()))?
             }
         };
         // The path is known in advance: it must keep the body inside the grid until the end.
@@ -1247,31 +1229,35 @@ fn driven(context: &str, config: &RigidBodyConfig, axial_only: Option<&str>) -> 
     }
     let force = match &config.force {
         None => None,
-        Some(rows) => {
-            let key = format!("{context}.force");
-            if rows.is_empty() {
-                return Err(format!("{key}: must be a non-empty list of rows [t, fx, fy] (s, N)"));
-            }
-            for (k, row) in rows.iter().enumerate() {
-                let rk = format!("{key}[{k}]");
-                if row.iter().any(|v| !v.is_finite()) {
-                    return Err(format!("{rk}: must be finite (got {row:?})"));
-                }
-                if k == 0 && row[0] < 0.0 {
-                    return Err(format!("{rk}[0]: the first time must be >= 0 s (got {})", row[0]));
-                }
-                if k > 0 && !(row[0] > rows[k - 1][0]) {
-                    return Err(format!("{rk}[0]: times must increase strictly (got {} after {})", row[0], rows[k - 1][0]));
-                }
-                if let Some(reason) = axial_only.filter(|_| row[1] != 0.0) {
-                    return Err(format!("{rk}[1]: fx {reason}; got {})", row[1]));
-                }
-            }
-            Some(Motion::table(rows))
-        }
+        Some(rows) => Some(checked_table(&format!("{context}.force"), rows, "[t, fx, fy] (s, N)", "fx", axial_only)?),
     };
     Ok(Kinematics::Driven(Dynamics { mass, force, displacement: [0.0; 2], velocity, step_velocity: velocity, kick: [0.0; 2], contact: None,
         axial_only: axial_only.is_some() }))
+}
+
+/// A table of rows [t, a_x, a_y] linear in time (a `motion` or a `force`) checked, naming
+/// `key`: non-empty, finite, times from ≥ 0 strictly increasing, and the x column `x_name` 0
+/// when `axial_only` gives why.
+fn checked_table(key: &str, rows: &[[f64; 3]], row_form: &str, x_name: &str, axial_only: Option<&str>) -> Result<Motion, String> {
+    if rows.is_empty() {
+        return Err(format!("{key}: must be a non-empty list of rows {row_form}"));
+    }
+    for (k, row) in rows.iter().enumerate() {
+        let rk = format!("{key}[{k}]");
+        if row.iter().any(|v| !v.is_finite()) {
+            return Err(format!("{rk}: must be finite (got {row:?})"));
+        }
+        if k == 0 && row[0] < 0.0 {
+            return Err(format!("{rk}[0]: the first time must be >= 0 s (got {})", row[0]));
+        }
+        if k > 0 && !(row[0] > rows[k - 1][0]) {
+            return Err(format!("{rk}[0]: times must increase strictly (got {} after {})", row[0], rows[k - 1][0]));
+        }
+        if let Some(reason) = axial_only.filter(|_| row[1] != 0.0) {
+            return Err(format!("{rk}[1]: {x_name} {reason}; got {})", row[1]));
+        }
+    }
+    Ok(Motion::table(rows))
 }
 
 /// The checks and settings every rigid body shares after its motion: the contact, the region
