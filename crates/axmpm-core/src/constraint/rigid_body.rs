@@ -423,8 +423,9 @@ pub struct RigidBody {
 }
 
 /// Newton iterations of a force-driven body's contact velocity at most
-/// ([`RigidBody::contact_velocity`]; 3–6 are typical, a frictionless contact needs one more than
-/// the times its nodes in contact change).
+/// ([`RigidBody::contact_velocity`]; a frictionless contact in one direction has converged once
+/// the set of nodes in contact stops changing; the last iterate is used otherwise, which keeps
+/// the momentum balance, since the impulse booked is the one of that iterate).
 const CONTACT_ITERATIONS: usize = 30;
 
 /// Whether a normal faces down (the base of a pile or footing): n_y < −1/√2.
@@ -464,7 +465,8 @@ impl RigidBody {
 
     /// The body's motion over the step [t, t + dt]: (displacement at t, displacement at
     /// t + dt, mean velocity w). Prescribed: D(t), D(t + dt) and (D(t + dt) − D(t))/dt;
-    /// force-driven: X, X + dt w and w = V + ΔV_ext/2 of [`RigidBody::begin_step`] (module doc).
+    /// force-driven: X, X + dt w₀ with the predicted w₀ = V + ΔV_ext/2 of
+    /// [`RigidBody::begin_step`], and w₀ or, once solved in the step, the contact's w (module doc).
     #[inline]
     fn step_motion(&self, time: f64, dt: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
         match &self.kinematics {
