@@ -65,3 +65,19 @@ pub fn material_momentum(sim: &axmpm_core::Simulation) -> [f64; 2] {
     }
     m
 }
+
+/// A Tresca clay layer (s_u = 10 kPa, E = 3 MPa, ν = 0.45) [0, 2] × [0, 1.2] m under gravity
+/// −10 m/s², axisymmetric uGIMP, FLIP 0.99, roller at r = 2 m, fixed base: the ground of the
+/// footing tests (add the footing).
+pub fn clay_layer() -> Config {
+    let mut cfg = block(FormulationKind::Axisymmetric, ShapeFunctionKind::Ugimp, [0.0, -10.0], [0.0, 0.0]);
+    let mut clay = material("mohr_coulomb", 1800.0, 3e6, 0.45);
+    clay.set("friction_angle", 0.0);
+    clay.set("cohesion", 10e3);
+    cfg.materials.insert("m".into(), clay);
+    cfg.bodies[0].set_rectangle([0.0, 0.0], [2.0, 1.2]);
+    cfg.boundaries.right = BoundaryCondition::ROLLER;
+    cfg.boundaries.bottom = BoundaryCondition::FIXED;
+    cfg.simulation.flip_fraction = 0.99;
+    cfg
+}

@@ -116,15 +116,7 @@ fn momentum_is_conserved_between_a_force_driven_body_and_the_material() {
 type FootingResult = (Vec<[f64; 2]>, Vec<[f64; 4]>, axmpm_core::constraint::rigid_body::RigidBodyState, [f64; 2], f64);
 
 fn driven_footing(threads: usize, resume: bool) -> FootingResult {
-    let mut cfg = block(FormulationKind::Axisymmetric, ShapeFunctionKind::Ugimp, [0.0, -10.0], [0.0, 0.0]);
-    let mut clay = material("mohr_coulomb", 1800.0, 3e6, 0.45);
-    clay.set("friction_angle", 0.0);
-    clay.set("cohesion", 10e3);
-    cfg.materials.insert("m".into(), clay);
-    cfg.bodies[0].set_rectangle([0.0, 0.0], [2.0, 1.2]);
-    cfg.boundaries.right = BoundaryCondition::ROLLER;
-    cfg.boundaries.bottom = BoundaryCondition::FIXED;
-    cfg.simulation.flip_fraction = 0.99;
+    let mut cfg = clay_layer();
     cfg.simulation.gravity_ramp_time = 0.02;
     cfg.rigid_bodies = vec![table(json!({"name": "footing", "shape": "rectangle", "min": [0.0, 1.2], "max": [0.5, 1.4],
                                            "mass": 500.0, "force": [[0.0, 0.0, 0.0], [0.02, 0.0, -40e3]],
