@@ -277,3 +277,43 @@ def test_a_grid_that_follows_the_footing_moves_with_it(tmp_path: Path) -> None:
     # 0.5 m/s after a 10 ms ramp: 97.5 mm in 0.2 s, about two cells of 50 mm.
     assert body["displacement"][-1, 1] == pytest.approx(-0.0975, rel=1e-9)
     assert body["force"][-1, 1] > 0.0
+
+
+def driven_footing() -> dict:
+    """The footing of :func:`footing` driven by a force instead of its motion."""
+    data = footing()
+    body = data["rigid_bodies"][0]
+    del body["motion"]
+    body.update(mass=100.0, force=[[0.0, 0.0, 0.0], [0.01, 0.0, -1e3]])
+    return data
+
+
+BAD_DRIVEN_INPUT = [
+    ("rigid_bodies.0.mass=0", "rigid_bodies.0.mass", "must be a finite number > 0 kg"),
+    ("rigid_bodies.0.mass=-5", "rigid_bodies.0.mass", "must be a finite number > 0 kg"),
+    ("rigid_bodies.0.mass=nan", "rigid_bodies.0.mass", "finite"),
+    ("rigid_bodies.0.force=[[0, 0, 0], [0, 0, -1]]", "rigid_bodies.0.force.1.0", "times must increase"),
+    ("rigid_bodies.0.force=[[0, 0, nan]]", "rigid_bodies.0.force.0.2", "finite"),
+    ("rigid_bodies.0.force=[[0, 1, -1]]", "rigid_bodies.0.force.0.1", "grid's left edge"),
+    ("rigid_bodies.0.initial_velocity=[0.1, 0]", "rigid_bodies.0.initial_velocity.0", "grid's left edge"),
+    ("rigid_bodies.0.velocity=[0, -1]", "rigid_bodies.0.velocity", "not both"),
+]
+
+
+@pytest.mark.parametrize("override,key,text", BAD_DRIVEN_INPUT, ids=[b[0] for b in BAD_DRIVEN_INPUT])
+def test_bad_force_driven_input_names_the_key(override: str, key: str, text: str) -> None:
+    errors = errors_of(driven_footing(), override)
+    assert key in errors, errors
+    assert text in errors[key], errors[key]
+
+
+def test_a_force_driven_footing_runs_and_reports_its_velocity(tmp_path: Path) -> None:
+    """The driven footing runs; history has its displacement and velocity (the rate of its
+    displacement between rows, to the step's noise), and the budget books its work."""
+    run(Scenario.from_dict(driven_footing()), tmp_path / "run", threads=1)
+    history = np.genfromtxt(tmp_path / "run" / "history.csv", delimiter=",", names=True)
+    d, v, t = history["footingdisplacement_y"], history["footingvelocity_y"], history["time"]
+    assert d[-1] < 0.0 and "footingvelocity_x" in history.dtype.names
+    rate = np.diff(d) / np.diff(t)
+    assert np.all(np.abs(v[1:] - rate) < 0.5 * np.abs(rate).max() + 1e-6), (v, rate)
+    assert history["rigid_body_work"][-1] > 0.0

@@ -583,6 +583,18 @@ pub struct RigidBodyConfig {
     /// Velocity table rows [t, vx, vy] (s, m/s), linear between rows.
     #[serde(default)]
     pub motion: Option<Vec<[f64; 3]>>,
+    /// Mass of a force-driven body, kg (whole body: per metre in plane strain, the whole ring
+    /// in axisymmetry; > 0). A body with a mass has no velocity or motion: it moves under
+    /// `force`, gravity and the contact reaction.
+    #[serde(default)]
+    pub mass: Option<f64>,
+    /// Force on a force-driven body, rows [t, fx, fy] (s, N in the units of `mass`), linear
+    /// between rows, constant before the first and after the last.
+    #[serde(default)]
+    pub force: Option<Vec<[f64; 3]>>,
+    /// Velocity of a force-driven body at t = 0, m/s (default 0).
+    #[serde(default)]
+    pub initial_velocity: Option<[f64; 2]>,
     #[serde(default)]
     pub friction: Friction,
     #[serde(default)]
@@ -609,6 +621,9 @@ impl RigidBodyConfig {
             name: name.into(),
             velocity: Some(velocity),
             motion: None,
+            mass: None,
+            force: None,
+            initial_velocity: None,
             friction: Friction::default(),
             contact: ContactKind::default(),
             experimental: false,

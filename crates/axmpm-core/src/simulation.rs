@@ -56,8 +56,14 @@ pub struct Energies {
     /// the run, Σ J_i · v⁺_i,after (see [`crate::constraint`]): the normal component (zero for
     /// roller, friction and fixed walls: impact losses are in the residual) ...
     pub boundary_normal_dissipation: f64,
-    /// ... and the tangential component (Coulomb friction; roller walls remove none).
+    /// ... and the tangential component (Coulomb friction; roller walls remove none), with
+    /// the slip dissipation at the rigid bodies' interfaces, Σ j·(v⁺_after − w)
+    /// (`constraint/rigid_body.rs`, "Energy").
     pub boundary_friction_dissipation: f64,
+    /// Work the rigid bodies have done on the material since the start of the run,
+    /// −Σ_steps J·w: each step's contact impulse J on the body times the body's velocity w
+    /// over the step (`constraint/rigid_body.rs`, "Energy"; an energy input, like gravity's).
+    pub rigid_body_work: f64,
     /// Saturated runs (0 otherwise): the pore water's kinetic energy Σ ½ n_p ρ_w V_p |w_p|² ...
     pub water_kinetic_energy: f64,
     /// ... and the work of the Darcy drag on the flow relative to the skeleton since the start
@@ -66,9 +72,10 @@ pub struct Energies {
 }
 
 impl Energies {
-    /// What the scheme lost: gravity_work − (kinetic + elastic + plastic + boundary), J.
+    /// What the scheme lost: gravity_work + rigid_body_work − (kinetic + elastic + plastic +
+    /// boundary), J.
     pub fn residual(&self) -> f64 {
-        self.gravity_work
+        self.gravity_work + self.rigid_body_work
             - self.kinetic_energy
             - self.elastic_energy
             - self.plastic_work
@@ -99,6 +106,11 @@ struct Checkpoint {
     /// their ids); absent in older checkpoints (then the particles are sorted on resume).
     #[serde(default)]
     tiles: Vec<Tile>,
+    /// Per rigid body in scenario order, its state (a force-driven body's displacement and
+    /// velocities, every body's work); absent in older checkpoints (then each body restarts from
+    /// its initial state).
+    #[serde(default)]
+    rigid_bodies: Vec<crate::constraint::rigid_body::RigidBodyState>,
 }
 
 const CHECKPOINT_FORMAT: u32 = 1;
@@ -442,16 +454,28 @@ impl Simulation {
             let gravity = self.gravity();
             self.state.load_factor = self.load_factor();
             self.place_grid();
+            let start = self.state.time;
+            // The force-driven bodies' velocity change of the step without the contact, for
+            // the contact's body velocity (constraint/rigid_body.rs, "Force-driven bodies").
+            self.state.constraints.begin_rigid_body_step(start, dt, gravity);
             let step_fn = self.scheme.step;
             let state = &mut self.state;
             let result = self.pool.install(|| step_fn(state, dt, gravity));
+            let g = &self.config.grid;
+            let upper = [g.origin[0] + g.extent[0], g.origin[1] + g.extent[1]];
+            let (total, origin) = (self.total_factor(), g.origin);
+            let bodies = self.state.constraints.end_rigid_body_step(start, dt, total, origin, upper);
             if lands {
                 self.state.time = until;
             }
             taken += 1;
-            if let Err(failure) = result {
-                let failure = failure.with_id(&self.state.particles.id);
-                let f = SimulationFailure { message: failure.message(), time: self.state.time, steps: self.state.steps };
+            let message = match (result, bodies) {
+                (Err(failure), _) => Some(failure.with_id(&self.state.particles.id).message()),
+                (Ok(()), Err(message)) => Some(message),
+                (Ok(()), Ok(())) => None,
+            };
+            if let Some(message) = message {
+                let f = SimulationFailure { message, time: self.state.time, steps: self.state.steps };
                 self.failure = Some(f.clone());
                 return Err(f);
             }
@@ -592,11 +616,27 @@ impl Simulation {
     }
 
     /// Displacement of each rigid body at the current time, m: the integral of its prescribed
-    /// velocity (a function of time only).
+    /// velocity (a function of time only), or a force-driven body's current displacement.
     pub fn rigid_body_displacements(&self) -> Vec<(String, [f64; 2])> {
         use crate::constraint::Constraint;
         let t = self.state.time;
         self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.displacement(t))).collect()
+    }
+
+    /// Velocity of each rigid body at the current time, m/s: the prescribed one, or the one a
+    /// force-driven body moved with over the last step.
+    pub fn rigid_body_velocities(&self) -> Vec<(String, [f64; 2])> {
+        use crate::constraint::Constraint;
+        let t = self.state.time;
+        self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.velocity(t))).collect()
+    }
+
+    /// Per rigid body, what a checkpoint keeps of it (a force-driven body's displacement X and
+    /// integration velocity V, its velocity over the last step, the work it has done on the
+    /// material per metre or radian; `constraint::rigid_body::RigidBodyState`).
+    pub fn rigid_body_states(&self) -> Vec<(String, crate::constraint::rigid_body::RigidBodyState)> {
+        use crate::constraint::Constraint;
+        self.state.constraints.rigid_bodies().map(|b| (b.name().to_string(), b.state())).collect()
     }
 
     /// Per rigid body, its outline (counter-clockwise vertices, m) at the current time.
@@ -680,6 +720,7 @@ impl Simulation {
         e.plastic_work *= total;
         e.boundary_normal_dissipation = normal * total;
         e.boundary_friction_dissipation = tangential * total;
+        e.rigid_body_work = self.state.constraints.rigid_body_work() * total;
         e
     }
 
@@ -694,6 +735,7 @@ impl Simulation {
             boundary_dissipation: self.state.constraints.dissipated_energy(),
             water_totals: self.state.water.as_ref().map_or([0.0; 2], |w| [w.outflow, w.drag_work]),
             tiles: self.state.tiles.tiles.clone(),
+            rigid_bodies: self.state.constraints.rigid_bodies().map(|b| b.state()).collect(),
         };
         serde_json::to_vec(&checkpoint).map_err(|e| format!("checkpoint: {e}"))
     }
@@ -706,6 +748,9 @@ impl Simulation {
         }
         let mut sim = Self::build(c.config, threads, Some((c.particles, c.time, c.steps, c.tiles)))?;
         sim.state.constraints.restored_dissipation = c.boundary_dissipation;
+        for (body, state) in sim.state.constraints.rigid_bodies_mut().zip(&c.rigid_bodies) {
+            body.restore(state);
+        }
         if let Some(water) = sim.state.water.as_mut() {
             [water.outflow, water.drag_work] = c.water_totals;
         }

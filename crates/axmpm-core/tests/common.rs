@@ -48,3 +48,36 @@ pub fn block(
 pub const ALL_SHAPES: [ShapeFunctionKind; 4] =
     [ShapeFunctionKind::Linear, ShapeFunctionKind::Ugimp, ShapeFunctionKind::Cpgimp, ShapeFunctionKind::Cpdi2];
 pub const ALL_FORMULATIONS: [FormulationKind; 2] = [FormulationKind::PlaneStrain, FormulationKind::Axisymmetric];
+
+/// A rigid body's table from JSON (the scenario's keys).
+pub fn rigid_body_table(v: serde_json::Value) -> RigidBodyConfig {
+    serde_json::from_value(v).unwrap()
+}
+
+/// Total momentum of the material (whole body: × 2π in axisymmetry), kg m/s.
+pub fn material_momentum(sim: &axmpm_core::Simulation) -> [f64; 2] {
+    let total = sim.total_factor();
+    let p = sim.particles();
+    let mut m = [0.0; 2];
+    for i in 0..p.len() {
+        m[0] += total * p.mass[i] * p.velocity[i][0];
+        m[1] += total * p.mass[i] * p.velocity[i][1];
+    }
+    m
+}
+
+/// A Tresca clay layer (s_u = 10 kPa, E = 3 MPa, ν = 0.45) [0, 2] × [0, 1.2] m under gravity
+/// −10 m/s², axisymmetric uGIMP, FLIP 0.99, roller at r = 2 m, fixed base: the ground of the
+/// footing tests (add the footing).
+pub fn clay_layer() -> Config {
+    let mut cfg = block(FormulationKind::Axisymmetric, ShapeFunctionKind::Ugimp, [0.0, -10.0], [0.0, 0.0]);
+    let mut clay = material("mohr_coulomb", 1800.0, 3e6, 0.45);
+    clay.set("friction_angle", 0.0);
+    clay.set("cohesion", 10e3);
+    cfg.materials.insert("m".into(), clay);
+    cfg.bodies[0].set_rectangle([0.0, 0.0], [2.0, 1.2]);
+    cfg.boundaries.right = BoundaryCondition::ROLLER;
+    cfg.boundaries.bottom = BoundaryCondition::FIXED;
+    cfg.simulation.flip_fraction = 0.99;
+    cfg
+}

@@ -6,22 +6,9 @@ mod common;
 use axmpm_core::config::*;
 use axmpm_core::Simulation;
 use common::*;
-use serde_json::{json, Value};
+use serde_json::json;
 
-fn table(v: Value) -> RigidBodyConfig {
-    serde_json::from_value(v).unwrap()
-}
-
-fn momentum(sim: &Simulation) -> [f64; 2] {
-    let total = sim.total_factor();
-    let p = sim.particles();
-    let mut m = [0.0; 2];
-    for i in 0..p.len() {
-        m[0] += total * p.mass[i] * p.velocity[i][0];
-        m[1] += total * p.mass[i] * p.velocity[i][1];
-    }
-    m
-}
+use common::{material_momentum as momentum, rigid_body_table as table};
 
 /// Every formulation, scheme and FLIP fraction of `flips`, with each contact enforcement.
 fn cases_with_contact(flips: &[f64]) -> Vec<(FormulationKind, ShapeFunctionKind, f64, &'static str)> {
@@ -216,15 +203,7 @@ fn a_rigid_body_pulled_away_leaves_the_material() {
 }
 
 fn footing_run(threads: usize, resume: bool, contact: &str) -> (Vec<[f64; 2]>, Vec<[f64; 4]>, [f64; 2]) {
-    let mut cfg = block(FormulationKind::Axisymmetric, ShapeFunctionKind::Ugimp, [0.0, -10.0], [0.0, 0.0]);
-    let mut clay = material("mohr_coulomb", 1800.0, 3e6, 0.45);
-    clay.set("friction_angle", 0.0);
-    clay.set("cohesion", 10e3);
-    cfg.materials.insert("m".into(), clay);
-    cfg.bodies[0].set_rectangle([0.0, 0.0], [2.0, 1.2]);
-    cfg.boundaries.right = BoundaryCondition::ROLLER;
-    cfg.boundaries.bottom = BoundaryCondition::FIXED;
-    cfg.simulation.flip_fraction = 0.99;
+    let mut cfg = clay_layer();
     cfg.simulation.volumetric_averaging = VolumetricAveraging::Cell;
     cfg.rigid_bodies = vec![table(json!({"name": "footing", "shape": "rectangle", "min": [0.0, 1.2], "max": [0.5, 1.4],
                                            "motion": [[0.0, 0.0, 0.0], [0.02, 0.0, -1.0]], "friction": 0.5,

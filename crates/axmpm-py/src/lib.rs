@@ -161,9 +161,10 @@ impl PySimulation {
     }
     /// The energy budget of the whole body (axisymmetric: × 2π), J: kinetic_energy,
     /// gravity_work (potential energy released), elastic_energy, plastic_work,
-    /// boundary_normal_dissipation, boundary_friction_dissipation, in saturated runs
-    /// water_kinetic_energy and drag_dissipation, and energy_residual (gravity_work minus all
-    /// the others: what the scheme lost).
+    /// boundary_normal_dissipation, boundary_friction_dissipation (with the slip at the rigid
+    /// bodies' interfaces), rigid_body_work (the work the rigid bodies did on the material), in
+    /// saturated runs water_kinetic_energy and drag_dissipation, and energy_residual
+    /// (gravity_work plus rigid_body_work minus all the others: what the scheme lost).
     fn energies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let e = self.inner.energies();
         let d = PyDict::new(py);
@@ -173,6 +174,7 @@ impl PySimulation {
         d.set_item("plastic_work", e.plastic_work)?;
         d.set_item("boundary_normal_dissipation", e.boundary_normal_dissipation)?;
         d.set_item("boundary_friction_dissipation", e.boundary_friction_dissipation)?;
+        d.set_item("rigid_body_work", e.rigid_body_work)?;
         if self.inner.water_outflow().is_some() {
             d.set_item("water_kinetic_energy", e.water_kinetic_energy)?;
             d.set_item("drag_dissipation", e.drag_dissipation)?;
@@ -214,6 +216,11 @@ impl PySimulation {
     /// Per rigid body, its displacement (m) at the current time: [(name, dx, dy), ...].
     fn rigid_body_displacements(&self) -> Vec<(String, f64, f64)> {
         self.inner.rigid_body_displacements().into_iter().map(|(name, d)| (name, d[0], d[1])).collect()
+    }
+    /// Per rigid body, its velocity (m/s) at the current time: [(name, vx, vy), ...] (the
+    /// prescribed one, or a force-driven body's).
+    fn rigid_body_velocities(&self) -> Vec<(String, f64, f64)> {
+        self.inner.rigid_body_velocities().into_iter().map(|(name, v)| (name, v[0], v[1])).collect()
     }
     /// Per rigid body, the mean force (N, whole body) since the last call split into the base
     /// (contact normals facing down) and the rest (shaft):

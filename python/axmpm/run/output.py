@@ -13,7 +13,7 @@ Layout of a run folder::
                              per metre; axisymmetric: whole body, axial NAME.force_y only and
                              NAME.radial_force_integral, the radial traction summed round
                              the ring, in place of a force_x); per rigid body also
-                             NAME.displacement_x/y (m) and the force split into
+                             NAME.displacement_x/y (m), NAME.velocity_x/y (m/s) and the force split into
                              NAME.base_force_x/y (contact normals facing down) and
                              NAME.shaft_force_x/y (the rest); per surcharge
                              NAME.applied_force_y, the force it applies to the material

@@ -103,15 +103,20 @@ def reaction_columns(reactions: dict[str, list[float]], axisymmetric: bool) -> d
 
 def rigid_body_columns(sim: Any, axisymmetric: bool = False) -> dict[str, float]:
     """History columns of the rigid bodies at the current output time: ``NAME.displacement_x/y``
-    (m) and the base/shaft split of the force, ``NAME.base_force_x/y``, ``NAME.shaft_force_x/y``
+    (m), ``NAME.velocity_x/y`` (m/s: the prescribed one, or a force-driven body's) and the base/shaft split of the force, ``NAME.base_force_x/y``, ``NAME.shaft_force_x/y``
     (N, mean since the previous row; base: contact with normals facing down). Their total is the
     ``NAME.force_x/y`` column of the reactions. Axisymmetric: the axial parts ``_y`` only (a
     ring's radial resultant is zero; see :func:`reaction_columns`)."""
     columns: dict[str, float] = {}
     parts = {name: (bx, by, sx, sy) for name, bx, by, sx, sy in sim.rigid_body_parts()}
+    velocities = {name: (vx, vy) for name, vx, vy in sim.rigid_body_velocities()}
     for name, dx, dy in sim.rigid_body_displacements():
         bx, by, sx, sy = parts[name]
+        vx, vy = velocities[name]
         columns.update({f"{name}.displacement_x": float(dx), f"{name}.displacement_y": float(dy)})
+        if not axisymmetric:
+            columns[f"{name}.velocity_x"] = float(vx)
+        columns[f"{name}.velocity_y"] = float(vy)
         if not axisymmetric:
             columns.update({f"{name}.base_force_x": float(bx), f"{name}.shaft_force_x": float(sx)})
         columns.update({f"{name}.base_force_y": float(by), f"{name}.shaft_force_y": float(sy)})

@@ -1,5 +1,5 @@
-"""``[[rigid_bodies]]``: rigid bodies moved by a prescribed velocity, in frictional contact with
-the material (engine: ``constraint/rigid_body.rs``, docs/physics.md §8).
+"""``[[rigid_bodies]]``: rigid bodies moved by a prescribed velocity or driven by a force, in
+frictional contact with the material (engine: ``constraint/rigid_body.rs``, docs/physics.md §8).
 
 ```toml
 [[rigid_bodies]]
@@ -13,10 +13,16 @@ adhesion = 0.0                   # Pa: shear strength min(friction sigma_n + adh
 contact = "nodes"                # or "penalty", experimental (docs/studies/contact-remedies.md)
 ```
 
+A force-driven body gives ``mass`` (kg, the whole body: per metre in plane strain, the whole
+ring in axisymmetry) instead of ``velocity``/``motion``, with an optional ``force = [[t, fx,
+fy], ...]`` (N, linear between rows) and ``initial_velocity``: it moves under that force,
+gravity and the material's reaction (a maintained load, a free-falling penetrometer).
+
 A rigid body cuts its region out of every body (no particle is created inside it), so a
 pre-embedded pile is one rigid body inside a soil layer. Its displacement is the integral of its
 velocity. In axisymmetric runs only axial motion is allowed (every vx = 0). The path must keep
-the body inside the grid until ``simulation.end_time``.
+the body inside the grid until ``simulation.end_time``; a force-driven body that leaves the
+grid ends the run as failed.
 
 The region is one of the registered shapes (:mod:`.regions`), the same as a body's. The types
 here give the schema; the engine checks the values and words the messages
@@ -57,6 +63,13 @@ class RigidBodyKeys(Section):
     motion: list[tuple[float, float, float]] | None = Field(
         None, description="[[t, vx, vy], ...] (s, m/s): velocity linear between rows, constant "
         "before the first and after the last; times increasing")
+    mass: float | None = Field(None, description="kg, > 0: a body driven by its force, gravity and the "
+                               "material's reaction instead of a velocity (the whole body: per metre in plane "
+                               "strain, the whole ring in axisymmetry); no velocity or motion then")
+    force: list[tuple[float, float, float]] | None = Field(
+        None, description="[[t, fx, fy], ...] (s, N in the units of mass) on a body with a mass: linear between "
+        "rows, constant before the first and after the last; times increasing (default: no force)")
+    initial_velocity: Vec2 | None = Field(None, description="m/s at t = 0 of a body with a mass (default [0, 0])")
     friction: Friction = Field(0.0, description='Coulomb coefficient >= 0 (0 = smooth), or "rough" (no slip)')
     contact: Literal["nodes", "penalty"] = Field(
         "nodes", description='"nodes": velocity correction at the grid nodes the body covers; "penalty": '

@@ -436,6 +436,40 @@ impl Constraints {
         self.list.iter_mut().filter_map(|c| c.as_rigid_body_mut())
     }
 
+    /// Before a step [t, t + dt] under `gravity`: [`RigidBody::begin_step`] of every body.
+    pub fn begin_rigid_body_step(&mut self, time: f64, dt: f64, gravity: [f64; 2]) {
+        for body in self.rigid_bodies_mut() {
+            body.begin_step(time, dt, gravity);
+        }
+    }
+
+    /// After that step: [`RigidBody::end_step`] of every body, then the first force-driven
+    /// body outside the grid `lower..upper` at the step's end `time + dt`, if any
+    /// ([`RigidBody::left_grid`]).
+    pub fn end_rigid_body_step(
+        &mut self,
+        time: f64,
+        dt: f64,
+        total_factor: f64,
+        lower: [f64; 2],
+        upper: [f64; 2],
+    ) -> Result<(), String> {
+        let mut failure = None;
+        for body in self.rigid_bodies_mut() {
+            body.end_step(time, dt, total_factor);
+            if failure.is_none() {
+                failure = body.left_grid(time + dt, lower, upper);
+            }
+        }
+        failure.map_or(Ok(()), Err)
+    }
+
+    /// Work the rigid bodies have done on the material since the start of the run (J per
+    /// radian or per metre; [`RigidBody::work`]).
+    pub fn rigid_body_work(&self) -> f64 {
+        self.rigid_bodies().map(RigidBody::work).sum()
+    }
+
     /// Names of the constraints that report a reaction, in order.
     pub fn reaction_names(&self) -> Vec<String> {
         self.list.iter().filter(|c| c.reports_reaction()).map(|c| c.name().to_string()).collect()

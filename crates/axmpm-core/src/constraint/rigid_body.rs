@@ -1,5 +1,5 @@
-//! Rigid bodies with a prescribed motion in frictional, adhesive contact with the material
-//! (`docs/physics.md` §8).
+//! Rigid bodies with a prescribed motion or driven by a force, in frictional, adhesive contact
+//! with the material (`docs/physics.md` §8).
 //!
 //! # Scenario
 //!
@@ -26,6 +26,36 @@
 //! integral D(t) = ∫₀ᵗ v dt of that velocity ([`Motion::displacement`]): a pure function of time,
 //! so a run resumed from a checkpoint moves the body bit for bit as an uninterrupted one. In
 //! axisymmetry only axial motion is allowed (every vx = 0) and the region must lie at r ≥ 0.
+//!
+//! # Force-driven bodies
+//!
+//! A body with `mass` M (kg, whole body: per metre in plane strain, the whole ring in
+//! axisymmetry), an optional `force = [[t, fx, fy], ...]` table F(t) (N, linear between rows,
+//! constant outside) and an optional `initial_velocity` has no prescribed path: it moves under
+//! F, gravity g (the material's of the step, with the ramp) and the contact impulse J the
+//! material exerts on it ([`Dynamics`]). Its displacement X and velocity V are its state (in
+//! the checkpoint). A step t → t + Δt:
+//!
+//! * [`RigidBody::begin_step`]: ΔV_ext = ∫ₜ^{t+Δt} F dt / M + g Δt (exact for the
+//!   piecewise-linear F) and w₀ = V + ΔV_ext/2; the contact geometry is the body at X + Δt w₀;
+//! * the recorded contact solves the body's velocity w with its reaction,
+//!   M_b (w − w₀) = J(w) ([`RigidBody::contact_velocity`], M_b = M per metre or per radian):
+//!   the velocity the body and its covered nodes reach together. With w₀ alone (the reaction a
+//!   step late) a body lighter than the nodes it covers is thrown back faster than it came;
+//! * [`RigidBody::end_step`]: X ← X + Δt w, V ← V + ΔV_ext + J/M.
+//!
+//! Without contact X(t + Δt) = X + Δt (V + ΔV_ext/2) = X + V Δt + a Δt²/2 for a constant
+//! acceleration a: the trapezoid of a linear velocity is exact, so x(t) = x₀ + v₀ t + a t²/2 for
+//! any sequence of steps. The body receives exactly the impulse the material loses (momentum
+//! conserved between them). In axisymmetry only the axial components move the body.
+//!
+//! # Energy
+//!
+//! The work a body does on the material in a step is −J·w (J its contact impulse, w its
+//! velocity over the step), summed in [`RigidBody::work`] (the budget's `rigid_body_work`);
+//! the slip the contact leaves at a node, v_after − w, dissipates j·(v_after − w) ≥ 0
+//! (j = m (v_before − v_after): Coulomb or adhesion reduce the slip without reversing it), the
+//! tangential part of [`Constraint::dissipated_energy`].
 //!
 //! # Contact (Bardenhagen, Brackbill & Sulsky 2000; Bardenhagen et al. 2001)
 //!
@@ -308,16 +338,73 @@ impl Motion {
     }
 }
 
-/// A rigid body: a region moved by a prescribed motion, in contact with the material.
+/// A force-driven body's mass, load and state (module doc, "Force-driven bodies").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dynamics {
+    /// M, kg: whole body (per metre in plane strain, the whole ring in axisymmetry).
+    mass: f64,
+    /// The applied force F(t) as a piecewise-linear table (its `velocity` is F, its
+    /// `displacement` the exact impulse ∫₀ᵗ F dt); `None`: no applied force.
+    force: Option<Motion>,
+    /// Displacement X and velocity V at the simulation's current time.
+    displacement: [f64; 2],
+    velocity: [f64; 2],
+    /// The velocity the body moved with over the last step, (X(t) − X(t − Δt))/Δt (the
+    /// initial velocity before the first step): its rate of settlement, reported as its
+    /// velocity. V differs from it by half the last step's ΔV_ext, which the contact resists in
+    /// the next step: a body held at rest against a force F has w = 0 and V = F Δt/(2M).
+    step_velocity: [f64; 2],
+    /// Velocity change of the current step from the force and gravity, ΔV_ext
+    /// ([`RigidBody::begin_step`]).
+    kick: [f64; 2],
+    /// The body's velocity over the current step with the contact, once solved
+    /// ([`RigidBody::contact_velocity`]).
+    contact: Option<[f64; 2]>,
+    /// The body moves along y only: a body of revolution (axisymmetry), or a body resting on
+    /// the grid's left edge, the symmetry plane of a half model (mirrored for the contact).
+    axial_only: bool,
+}
+
+impl Dynamics {
+    /// The body's mean velocity over a step of length `dt` from its current state:
+    /// w = V + ΔV_ext/2, the trapezoid of the start and end velocities without the contact
+    /// (exact for a constant acceleration, module doc).
+    #[inline]
+    fn mean_velocity(&self) -> [f64; 2] {
+        [self.velocity[0] + 0.5 * self.kick[0], self.velocity[1] + 0.5 * self.kick[1]]
+    }
+}
+
+/// How a rigid body moves: along a prescribed path, or under a force ([`Dynamics`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Kinematics {
+    Prescribed(Motion),
+    Driven(Dynamics),
+}
+
+/// What a checkpoint keeps of a rigid body (the rest is rebuilt from the scenario): a
+/// force-driven body's displacement and velocity, and the work every body has done on the
+/// material (per metre or per radian).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RigidBodyState {
+    pub displacement: [f64; 2],
+    pub velocity: [f64; 2],
+    /// The velocity over the last step ([`Dynamics`]).
+    pub step_velocity: [f64; 2],
+    pub work: f64,
+}
+
+/// A rigid body: a region moved by a prescribed motion or by a force, in contact with the
+/// material.
 #[derive(Debug)]
 pub struct RigidBody {
     name: String,
-    /// The region at t = 0; at time t it is translated by `motion.displacement(t)`.
+    /// The region at t = 0; at time t it is translated by the body's displacement.
     region: Box<dyn Region>,
     /// The same region as a polygon for the contact, united with its mirror image when it
     /// rests against the grid's left edge (symmetry plane or axis; module doc).
     contact: Polygon,
-    motion: Motion,
+    kinematics: Kinematics,
     friction: Friction,
     /// Adhesion a and the interface's shear limit a_lim, Pa (module doc, "Adhesion").
     adhesion: f64,
@@ -333,7 +420,21 @@ pub struct RigidBody {
     /// Impulse since the last `take_impulse_parts`: the base part and the rest (module doc).
     impulse_base: [f64; 2],
     impulse_shaft: [f64; 2],
+    /// Impulse of the current step, J (per metre or per radian), for the body's own motion and
+    /// its work ([`RigidBody::end_step`]).
+    step_impulse: [f64; 2],
+    /// Work the body has done on the material since the start, −Σ_steps J·w (module doc,
+    /// "Energy"), per metre or per radian.
+    work: f64,
+    /// Of that work, the part lost to slip at the interface, Σ_nodes j·(v_after − w).
+    interface_dissipation: f64,
 }
+
+/// Newton iterations of a force-driven body's contact velocity at most
+/// ([`RigidBody::contact_velocity`]; a frictionless contact in one direction has converged once
+/// the set of nodes in contact stops changing; the last iterate is used otherwise, which keeps
+/// the momentum balance, since the impulse booked is the one of that iterate).
+const CONTACT_ITERATIONS: usize = 30;
 
 /// Whether a normal faces down (the base of a pile or footing): n_y < −1/√2.
 #[inline]
@@ -347,14 +448,14 @@ impl RigidBody {
         name: impl Into<String>,
         region: Box<dyn Region>,
         contact: Polygon,
-        motion: Motion,
+        kinematics: Kinematics,
         friction: Friction,
     ) -> Self {
         Self {
             name: name.into(),
             region,
             contact,
-            motion,
+            kinematics,
             friction,
             adhesion: 0.0,
             adhesion_limit: f64::INFINITY,
@@ -365,177 +466,120 @@ impl RigidBody {
             impulse: [0.0; 2],
             impulse_base: [0.0; 2],
             impulse_shaft: [0.0; 2],
+            step_impulse: [0.0; 2],
+            work: 0.0,
+            interface_dissipation: 0.0,
         }
     }
 
-    /// Sets the reach (m): nodes outside the body closer than this count as covered. The
-    /// solver uses the material particles' half-width h/(2n) (module doc).
-    pub fn with_reach(mut self, reach: f64) -> Self {
-        self.reach = reach;
-        self
-    }
-
-    /// Marks the body as the one the grid follows (`grid.follow`; module doc, "Corners").
-    pub fn followed_by_the_grid(mut self, followed: bool) -> Self {
-        self.followed = followed;
-        self
-    }
-
-    /// Sets the stiffness k (Pa/m) of a penalty contact (no effect on a nodal one).
-    pub fn with_penalty_stiffness(mut self, stiffness: f64) -> Self {
-        if let Enforcement::Penalty(_) = self.enforcement {
-            self.enforcement = Enforcement::Penalty(stiffness);
-        }
-        self
-    }
-
-    pub fn enforcement(&self) -> Enforcement {
-        self.enforcement
-    }
-
-    /// Penalty contact (module doc): adds to the nodal forces `nodal_force` the force the body
-    /// exerts on the material over the step starting at `time` (N per metre or per radian),
-    /// each corner's force through the grid's bilinear shape functions at that corner, and
-    /// books its opposite × dt as the body's impulse, split into base and shaft by the
-    /// particle's mean normal. Serial, in particle order: independent of the thread count.
-    pub fn add_contact_forces(&mut self, context: &super::ParticleContext, nodal_force: &mut [[f64; 2]]) {
-        let Enforcement::Penalty(stiffness) = self.enforcement else { return };
-        let super::ParticleContext { particles, grid, mass, light, time, dt, axisymmetric } = *context;
-        let offset = self.motion.displacement(time);
-        let w = self.motion.mean_velocity(time, dt);
-        let (lo, hi) = self.contact.bounding_box();
-        let cpdi = !particles.corners.is_empty();
-        for p in 0..particles.len() {
-            let x = particles.position[p];
-            let l = particles.initial_half_width[p];
-            // Quick rejection: the domain lies within 2 max(l)·max|F| of the centre.
-            let fg = &particles.deformation_gradient[p];
-            let spread = 2.0 * l[0].max(l[1]) * (1.0 + fg[0].abs() + fg[1].abs() + fg[2].abs() + fg[3].abs());
-            let c = [x[0] - offset[0], x[1] - offset[1]];
-            if c[0] < lo[0] - spread || c[0] > hi[0] + spread || c[1] < lo[1] - spread || c[1] > hi[1] + spread {
-                continue;
+    /// The body's motion over the step [t, t + dt]: (displacement at t, displacement at
+    /// t + dt, mean velocity w). Prescribed: D(t), D(t + dt) and (D(t + dt) − D(t))/dt;
+    /// force-driven: X, X + dt w₀ with the predicted w₀ = V + ΔV_ext/2 of
+    /// [`RigidBody::begin_step`], and w₀ or, once solved in the step, the contact's w (module doc).
+    #[inline]
+    fn step_motion(&self, time: f64, dt: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        match &self.kinematics {
+            Kinematics::Prescribed(motion) => {
+                (motion.displacement(time), motion.displacement(time + dt), motion.mean_velocity(time, dt))
             }
-            // Corners of the particle's domain (CPDI: its own; GIMP: F applied to ±l0).
-            let corners: [[f64; 2]; 4] = if cpdi {
-                particles.corners[p]
-            } else {
-                let mut q = [[0.0; 2]; 4];
-                for (j, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
-                    q[j] = [x[0] + fg[0] * sx * l[0] + fg[1] * sy * l[1], x[1] + fg[2] * sx * l[0] + fg[3] * sy * l[1]];
+            Kinematics::Driven(d) => {
+                // The geometry of the step is the predicted one (without the contact), so the
+                // solve and the re-map see the same covered nodes.
+                let predicted = d.mean_velocity();
+                let x = d.displacement;
+                (x, [x[0] + dt * predicted[0], x[1] + dt * predicted[1]], d.contact.unwrap_or(predicted))
+            }
+        }
+    }
+
+    /// Before a step [t, t + dt] under `gravity` (the acceleration the material gets in that
+    /// step): a force-driven body's velocity change without the contact,
+    /// ΔV_ext = ∫ₜ^{t+dt} F dt / M + g dt (axial only for a body of revolution or on a symmetry
+    /// plane). Nothing for a prescribed body.
+    pub fn begin_step(&mut self, time: f64, dt: f64, gravity: [f64; 2]) {
+        if let Kinematics::Driven(d) = &mut self.kinematics {
+            let impulse = match &d.force {
+                Some(f) => {
+                    let (a, b) = (f.displacement(time), f.displacement(time + dt));
+                    [b[0] - a[0], b[1] - a[1]]
                 }
-                q
+                None => [0.0; 2],
             };
-            // Tributary length of a corner: half a side of the domain.
-            let side = 0.5 * (l[0] + l[1]);
-            let mut corner_force = [[0.0; 2]; 4];
-            let mut normal_force = [0.0; 2];
-            let mut total_magnitude = 0.0;
-            let mut contact_area = 0.0;
-            for (k, &q) in corners.iter().enumerate() {
-                let (d, n) = geometry::Region::signed_distance(&self.contact, [q[0] - offset[0], q[1] - offset[1]]);
-                if d < 0.0 {
-                    let area = if axisymmetric { side * q[0].max(0.0) } else { side };
-                    contact_area += area;
-                    let magnitude = -stiffness * d * area;
-                    corner_force[k] = [magnitude * n[0], magnitude * n[1]];
-                    normal_force[0] += corner_force[k][0];
-                    normal_force[1] += corner_force[k][1];
-                    total_magnitude += magnitude;
-                }
+            d.kick = [impulse[0] / d.mass + gravity[0] * dt, impulse[1] / d.mass + gravity[1] * dt];
+            if d.axial_only {
+                d.kick[0] = 0.0;
             }
-            let fn_size = normal_force[0].hypot(normal_force[1]);
-            if !(fn_size > 0.0) {
-                continue;
-            }
-            let n = [normal_force[0] / fn_size, normal_force[1] / fn_size];
-            let v = particles.velocity[p];
-            let rel = [v[0] - w[0], v[1] - w[1]];
-            let vn = rel[0] * n[0] + rel[1] * n[1];
-            let t = [rel[0] - vn * n[0], rel[1] - vn * n[1]];
-            let slip = t[0].hypot(t[1]);
-            // Tangential force: the one that stops the particle's slip in this step, at most μ N.
-            let stick = particles.mass[p] * slip / dt;
-            // The interface's strength over the corners' area: min(μ N + a A, a_lim A).
-            let mut strength = self.friction.shear_limit(fn_size) + self.adhesion * contact_area;
-            if self.adhesion_limit.is_finite() {
-                strength = strength.min(self.adhesion_limit * contact_area);
-            }
-            let limit = stick.min(strength);
-            let tangential = if slip > 0.0 && limit > 0.0 { [-limit * t[0] / slip, -limit * t[1] / slip] } else { [0.0; 2] };
-            let mut total = [0.0; 2];
-            for (k, &q) in corners.iter().enumerate() {
-                let f = corner_force[k];
-                let magnitude = f[0].hypot(f[1]);
-                if magnitude == 0.0 {
-                    continue;
-                }
-                // The tangential force shared among the corners in contact by their normal force.
-                let share = magnitude / total_magnitude;
-                let f = [f[0] + share * tangential[0], f[1] + share * tangential[1]];
-                if add_at_point(grid, mass, light, q, f, nodal_force) {
-                    total[0] += f[0];
-                    total[1] += f[1];
-                }
-
-            }
-            let part = if faces_down(n) { &mut self.impulse_base } else { &mut self.impulse_shaft };
-            // The material's impulse on the body is the opposite of the body's on the material.
-            part[0] -= dt * total[0];
-            part[1] -= dt * total[1];
-            self.impulse[0] -= dt * total[0];
-            self.impulse[1] -= dt * total[1];
+            d.contact = None;
         }
     }
 
-    pub fn motion(&self) -> &Motion {
-        &self.motion
-    }
-
-    pub fn friction(&self) -> Friction {
-        self.friction
-    }
-
-    /// The region at t = 0.
-    pub fn region(&self) -> &dyn Region {
-        self.region.as_ref()
-    }
-
-    /// Displacement of the body at time t, m.
-    pub fn displacement(&self, t: f64) -> [f64; 2] {
-        self.motion.displacement(t)
-    }
-
-    /// Whether a point lies inside the body (closed) at time t.
-    pub fn contains(&self, x: [f64; 2], t: f64) -> bool {
-        let d = self.motion.displacement(t);
-        self.region.contains([x[0] - d[0], x[1] - d[1]])
-    }
-
-    /// Impulse since the last call of this function split into (base, shaft) (module doc), reset
-    /// by the call (independently of [`Constraint::take_impulse`], which returns their sum over
-    /// its own interval).
-    pub fn take_impulse_parts(&mut self) -> ([f64; 2], [f64; 2]) {
-        let parts = (self.impulse_base, self.impulse_shaft);
-        self.impulse_base = [0.0; 2];
-        self.impulse_shaft = [0.0; 2];
-        parts
-    }
-}
-
-impl Constraint for RigidBody {
-    fn name(&self) -> &str {
-        &self.name
-    }
-
-    fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
-        if matches!(self.enforcement, Enforcement::Penalty(_)) {
-            return;
+    /// After the step begun by [`RigidBody::begin_step`] (same `time`, `dt`): books the work
+    /// the body did on the material, −J·w with J the step's contact impulse, and moves a
+    /// force-driven body: X ← X + dt w, V ← V + ΔV_ext + J_body/M, J_body = `total_factor` × J
+    /// (the whole body's impulse: 2π per radian in axisymmetry; only its axial part moves a
+    /// body of revolution or one on a symmetry plane). The impulse the body receives is the
+    /// momentum the material lost.
+    pub fn end_step(&mut self, time: f64, dt: f64, total_factor: f64) {
+        let (_, _, w) = self.step_motion(time, dt);
+        let j = std::mem::take(&mut self.step_impulse);
+        self.work -= j[0] * w[0] + j[1] * w[1];
+        if let Kinematics::Driven(d) = &mut self.kinematics {
+            let radial = if d.axial_only { 0.0 } else { 1.0 };
+            d.displacement[0] += dt * w[0];
+            d.displacement[1] += dt * w[1];
+            d.step_velocity = w;
+            d.velocity[0] += d.kick[0] + radial * total_factor * j[0] / d.mass;
+            d.velocity[1] += d.kick[1] + total_factor * j[1] / d.mass;
         }
+    }
+
+    /// A force-driven body whose box has left the grid `lower..upper` (to 10⁻⁹ of the grid's
+    /// span): why, naming the body, the time and its velocity. `None` for a prescribed body
+    /// (its path is checked in advance, [`Motion::first_exit`]).
+    pub fn left_grid(&self, time: f64, lower: [f64; 2], upper: [f64; 2]) -> Option<String> {
+        let Kinematics::Driven(d) = &self.kinematics else { return None };
+        let (lo, hi) = self.region.bounding_box();
+        let x = d.displacement;
+        let tol = 1e-9 * (upper[0] - lower[0]).max(upper[1] - lower[1]);
+        let inside = (0..2).all(|c| lo[c] + x[c] >= lower[c] - tol && hi[c] + x[c] <= upper[c] + tol);
+        if inside {
+            return None;
+        }
+        let v = d.velocity;
+        Some(format!(
+            "rigid body '{}' left the grid at t = {time:.6e} s moving at ({:.3e}, {:.3e}) m/s (its box \
+             ({:.6e}, {:.6e}) .. ({:.6e}, {:.6e}) m, the grid ({:.6e}, {:.6e}) .. ({:.6e}, {:.6e}) m): a force-driven \
+             body moves under its force, gravity and the soil's reaction; check its mass and force, or \
+             enlarge grid.extent if the motion is real",
+            self.name,
+            v[0],
+            v[1],
+            lo[0] + x[0],
+            lo[1] + x[1],
+            hi[0] + x[0],
+            hi[1] + x[1],
+            lower[0],
+            lower[1],
+            upper[0],
+            upper[1]
+        ))
+    }
+
+    /// One pass of the nodal contact (module doc) for the body at `offset` at the end of the
+    /// step, moving with `w`: at each covered node with mass, `visit(m, before, after, steps)`
+    /// with the node's mass, its velocity before and after the correction and the correction
+    /// face by face (normal, from, to); with `write`, `after` is stored in `velocity`.
+    fn sweep(
+        &self,
+        context: &NodalContext,
+        velocity: &mut [[f64; 2]],
+        offset: [f64; 2],
+        w: [f64; 2],
+        write: bool,
+        mut visit: impl FnMut(f64, [f64; 2], [f64; 2], &[([f64; 2], [f64; 2], [f64; 2]); 2]),
+    ) {
         let grid = context.grid;
         let h = grid.cell_size;
-        // Geometry at the end of the step, velocity the mean over the step (module doc).
-        let offset = self.motion.displacement(context.time + context.dt);
-        let w = self.motion.mean_velocity(context.time, context.dt);
         let (lo, hi) = self.region.bounding_box();
         let tolerance = 1e-9 * h;
         let reach = self.reach + tolerance;
@@ -625,22 +669,313 @@ impl Constraint for RigidBody {
                     steps[1].1[0] = before[0];
                     steps[1].2[0] = before[0];
                 }
-                velocity[node] = after;
-                if record {
-                    self.impulse[0] += m * (before[0] - after[0]);
-                    self.impulse[1] += m * (before[1] - after[1]);
-                    for (n, from, to) in steps {
-                        let part = if faces_down(n) { &mut self.impulse_base } else { &mut self.impulse_shaft };
-                        part[0] += m * (from[0] - to[0]);
-                        part[1] += m * (from[1] - to[1]);
-                    }
+                if write {
+                    velocity[node] = after;
+                }
+                visit(m, before, after, &steps);
+            }
+        }
+    }
+
+    /// A force-driven body's velocity over the step with the contact (module doc, "Force-driven
+    /// bodies"): the w that solves M_b (w − w₀) = J(w), J(w) the impulse the material's
+    /// covered nodes exert on the body when the contact makes them follow w, M_b the body's
+    /// mass per metre or per radian (`mass`), w₀ its velocity without the contact. Semi-smooth
+    /// Newton: each node that the contact corrects holds the body in the direction d of its
+    /// correction, so ∂J/∂w ≈ −Σ m d dᵀ, and w ← w + (M_b I + Σ m d dᵀ)⁻¹ (M_b (w₀ − w) + J(w)),
+    /// exact for a frictionless contact in one direction once the nodes in contact no longer
+    /// change. Axial only (`axial_only`) for a body of revolution or on a symmetry plane.
+    fn contact_velocity(
+        &self,
+        context: &NodalContext,
+        velocity: &mut [[f64; 2]],
+        offset: [f64; 2],
+        w0: [f64; 2],
+        mass: f64,
+        axial_only: bool,
+    ) -> [f64; 2] {
+        let mut w = w0;
+        for _ in 0..CONTACT_ITERATIONS {
+            let (mut impulse, mut k) = ([0.0; 2], [0.0; 3]);
+            self.sweep(context, velocity, offset, w, false, |m, before, after, _| {
+                let d = [before[0] - after[0], before[1] - after[1]];
+                let size = d[0] * d[0] + d[1] * d[1];
+                impulse[0] += m * d[0];
+                impulse[1] += m * d[1];
+                if size > 0.0 {
+                    k[0] += m * d[0] * d[0] / size;
+                    k[1] += m * d[0] * d[1] / size;
+                    k[2] += m * d[1] * d[1] / size;
+                }
+            });
+            let r = [mass * (w0[0] - w[0]) + impulse[0], mass * (w0[1] - w[1]) + impulse[1]];
+            let step = if axial_only {
+                [0.0, r[1] / (mass + k[2])]
+            } else {
+                let (a, b, c) = (mass + k[0], k[1], mass + k[2]);
+                let det = a * c - b * b;
+                [(c * r[0] - b * r[1]) / det, (a * r[1] - b * r[0]) / det]
+            };
+            w = [w[0] + step[0], w[1] + step[1]];
+            let scale = w[0].abs().max(w[1].abs()).max(w0[0].abs().max(w0[1].abs()));
+            if step[0].abs().max(step[1].abs()) <= 1e-13 * scale {
+                break;
+            }
+        }
+        w
+    }
+
+    /// What a checkpoint keeps of the body ([`RigidBodyState`]).
+    pub fn state(&self) -> RigidBodyState {
+        let (displacement, velocity, step_velocity) = match &self.kinematics {
+            Kinematics::Driven(d) => (d.displacement, d.velocity, d.step_velocity),
+            Kinematics::Prescribed(_) => ([0.0; 2], [0.0; 2], [0.0; 2]),
+        };
+        RigidBodyState { displacement, velocity, step_velocity, work: self.work }
+    }
+
+    /// Restores what [`RigidBody::state`] kept (a prescribed body's displacement and velocity
+    /// are functions of time: only its work is restored).
+    pub fn restore(&mut self, state: &RigidBodyState) {
+        self.work = state.work;
+        if let Kinematics::Driven(d) = &mut self.kinematics {
+            d.displacement = state.displacement;
+            d.velocity = state.velocity;
+            d.step_velocity = state.step_velocity;
+        }
+    }
+
+    /// Work the body has done on the material since the start of the run, J per metre (plane
+    /// strain) or per radian (axisymmetric): −Σ_steps J·w (module doc, "Energy").
+    pub fn work(&self) -> f64 {
+        self.work
+    }
+
+    pub fn kinematics(&self) -> &Kinematics {
+        &self.kinematics
+    }
+
+    /// Sets the reach (m): nodes outside the body closer than this count as covered. The
+    /// solver uses the material particles' half-width h/(2n) (module doc).
+    pub fn with_reach(mut self, reach: f64) -> Self {
+        self.reach = reach;
+        self
+    }
+
+    /// Marks the body as the one the grid follows (`grid.follow`; module doc, "Corners").
+    pub fn followed_by_the_grid(mut self, followed: bool) -> Self {
+        self.followed = followed;
+        self
+    }
+
+    /// Sets the stiffness k (Pa/m) of a penalty contact (no effect on a nodal one).
+    pub fn with_penalty_stiffness(mut self, stiffness: f64) -> Self {
+        if let Enforcement::Penalty(_) = self.enforcement {
+            self.enforcement = Enforcement::Penalty(stiffness);
+        }
+        self
+    }
+
+    pub fn enforcement(&self) -> Enforcement {
+        self.enforcement
+    }
+
+    /// Penalty contact (module doc): adds to the nodal forces `nodal_force` the force the body
+    /// exerts on the material over the step starting at `time` (N per metre or per radian),
+    /// each corner's force through the grid's bilinear shape functions at that corner, and
+    /// books its opposite × dt as the body's impulse, split into base and shaft by the
+    /// particle's mean normal. Serial, in particle order: independent of the thread count.
+    pub fn add_contact_forces(&mut self, context: &super::ParticleContext, nodal_force: &mut [[f64; 2]]) {
+        let Enforcement::Penalty(stiffness) = self.enforcement else { return };
+        let super::ParticleContext { particles, grid, mass, light, time, dt, axisymmetric } = *context;
+        let (offset, _, w) = self.step_motion(time, dt);
+        let (lo, hi) = self.contact.bounding_box();
+        let cpdi = !particles.corners.is_empty();
+        for p in 0..particles.len() {
+            let x = particles.position[p];
+            let l = particles.initial_half_width[p];
+            // Quick rejection: the domain lies within 2 max(l)·max|F| of the centre.
+            let fg = &particles.deformation_gradient[p];
+            let spread = 2.0 * l[0].max(l[1]) * (1.0 + fg[0].abs() + fg[1].abs() + fg[2].abs() + fg[3].abs());
+            let c = [x[0] - offset[0], x[1] - offset[1]];
+            if c[0] < lo[0] - spread || c[0] > hi[0] + spread || c[1] < lo[1] - spread || c[1] > hi[1] + spread {
+                continue;
+            }
+            // Corners of the particle's domain (CPDI: its own; GIMP: F applied to ±l0).
+            let corners: [[f64; 2]; 4] = if cpdi {
+                particles.corners[p]
+            } else {
+                let mut q = [[0.0; 2]; 4];
+                for (j, (sx, sy)) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].into_iter().enumerate() {
+                    q[j] = [x[0] + fg[0] * sx * l[0] + fg[1] * sy * l[1], x[1] + fg[2] * sx * l[0] + fg[3] * sy * l[1]];
+                }
+                q
+            };
+            // Tributary length of a corner: half a side of the domain.
+            let side = 0.5 * (l[0] + l[1]);
+            let mut corner_force = [[0.0; 2]; 4];
+            let mut normal_force = [0.0; 2];
+            let mut total_magnitude = 0.0;
+            let mut contact_area = 0.0;
+            for (k, &q) in corners.iter().enumerate() {
+                let (d, n) = geometry::Region::signed_distance(&self.contact, [q[0] - offset[0], q[1] - offset[1]]);
+                if d < 0.0 {
+                    let area = if axisymmetric { side * q[0].max(0.0) } else { side };
+                    contact_area += area;
+                    let magnitude = -stiffness * d * area;
+                    corner_force[k] = [magnitude * n[0], magnitude * n[1]];
+                    normal_force[0] += corner_force[k][0];
+                    normal_force[1] += corner_force[k][1];
+                    total_magnitude += magnitude;
                 }
             }
+            let fn_size = normal_force[0].hypot(normal_force[1]);
+            if !(fn_size > 0.0) {
+                continue;
+            }
+            let n = [normal_force[0] / fn_size, normal_force[1] / fn_size];
+            let v = particles.velocity[p];
+            let rel = [v[0] - w[0], v[1] - w[1]];
+            let vn = rel[0] * n[0] + rel[1] * n[1];
+            let t = [rel[0] - vn * n[0], rel[1] - vn * n[1]];
+            let slip = t[0].hypot(t[1]);
+            // Tangential force: the one that stops the particle's slip in this step, at most μ N.
+            let stick = particles.mass[p] * slip / dt;
+            // The interface's strength over the corners' area: min(μ N + a A, a_lim A).
+            let mut strength = self.friction.shear_limit(fn_size) + self.adhesion * contact_area;
+            if self.adhesion_limit.is_finite() {
+                strength = strength.min(self.adhesion_limit * contact_area);
+            }
+            let limit = stick.min(strength);
+            let tangential = if slip > 0.0 && limit > 0.0 { [-limit * t[0] / slip, -limit * t[1] / slip] } else { [0.0; 2] };
+            let mut total = [0.0; 2];
+            for (k, &q) in corners.iter().enumerate() {
+                let f = corner_force[k];
+                let magnitude = f[0].hypot(f[1]);
+                if magnitude == 0.0 {
+                    continue;
+                }
+                // The tangential force shared among the corners in contact by their normal force.
+                let share = magnitude / total_magnitude;
+                let f = [f[0] + share * tangential[0], f[1] + share * tangential[1]];
+                if add_at_point(grid, mass, light, q, f, nodal_force) {
+                    total[0] += f[0];
+                    total[1] += f[1];
+                }
+
+            }
+            let part = if faces_down(n) { &mut self.impulse_base } else { &mut self.impulse_shaft };
+            // The material's impulse on the body is the opposite of the body's on the material.
+            part[0] -= dt * total[0];
+            part[1] -= dt * total[1];
+            self.impulse[0] -= dt * total[0];
+            self.impulse[1] -= dt * total[1];
+            self.step_impulse[0] -= dt * total[0];
+            self.step_impulse[1] -= dt * total[1];
+        }
+    }
+
+    pub fn friction(&self) -> Friction {
+        self.friction
+    }
+
+    /// The region at t = 0.
+    pub fn region(&self) -> &dyn Region {
+        self.region.as_ref()
+    }
+
+    /// Displacement of the body at time t, m: D(t) of a prescribed body; a force-driven
+    /// body's is its state, that of the simulation's current time (t is then that time).
+    pub fn displacement(&self, t: f64) -> [f64; 2] {
+        match &self.kinematics {
+            Kinematics::Prescribed(motion) => motion.displacement(t),
+            Kinematics::Driven(d) => d.displacement,
+        }
+    }
+
+    /// Velocity of the body at time t, m/s: the prescribed one, or the velocity a force-driven
+    /// body moved with over the last step up to the current time t ([`Dynamics`]; its
+    /// integration state V is in [`RigidBody::state`]).
+    pub fn velocity(&self, t: f64) -> [f64; 2] {
+        match &self.kinematics {
+            Kinematics::Prescribed(motion) => motion.velocity(t),
+            Kinematics::Driven(d) => d.step_velocity,
+        }
+    }
+
+    /// Whether a point lies inside the body (closed) at time t ([`RigidBody::displacement`]).
+    pub fn contains(&self, x: [f64; 2], t: f64) -> bool {
+        let d = self.displacement(t);
+        self.region.contains([x[0] - d[0], x[1] - d[1]])
+    }
+
+    /// Impulse since the last call of this function split into (base, shaft) (module doc), reset
+    /// by the call (independently of [`Constraint::take_impulse`], which returns their sum over
+    /// its own interval).
+    pub fn take_impulse_parts(&mut self) -> ([f64; 2], [f64; 2]) {
+        let parts = (self.impulse_base, self.impulse_shaft);
+        self.impulse_base = [0.0; 2];
+        self.impulse_shaft = [0.0; 2];
+        parts
+    }
+}
+
+impl Constraint for RigidBody {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn apply(&mut self, context: &NodalContext, velocity: &mut [[f64; 2]], record: bool) {
+        if matches!(self.enforcement, Enforcement::Penalty(_)) {
+            return;
+        }
+        // Geometry at the end of the step, velocity the mean over the step (module doc); a
+        // force-driven body's velocity is solved with the contact in the recorded call
+        // ("Force-driven bodies") and kept for the re-map.
+        let (_, offset, mut w) = self.step_motion(context.time, context.dt);
+        if record {
+            if let Kinematics::Driven(d) = &self.kinematics {
+                // The body's mass per radian or per metre, as the nodes' and the impulse's.
+                let mass = d.mass / if context.axisymmetric { std::f64::consts::TAU } else { 1.0 };
+                w = self.contact_velocity(context, velocity, offset, w, mass, d.axial_only);
+                if let Kinematics::Driven(d) = &mut self.kinematics {
+                    d.contact = Some(w);
+                }
+            }
+        }
+        let (mut impulse, mut base, mut shaft, mut dissipation) = ([0.0; 2], [0.0; 2], [0.0; 2], 0.0);
+        self.sweep(context, velocity, offset, w, true, |m, before, after, steps| {
+            if !record {
+                return;
+            }
+            impulse[0] += m * (before[0] - after[0]);
+            impulse[1] += m * (before[1] - after[1]);
+            // The slip left at the interface dissipates j·(v_after − w) ≥ 0 (module doc, "Energy").
+            dissipation += m * ((before[0] - after[0]) * (after[0] - w[0]) + (before[1] - after[1]) * (after[1] - w[1]));
+            for &(n, from, to) in steps {
+                let part = if faces_down(n) { &mut base } else { &mut shaft };
+                part[0] += m * (from[0] - to[0]);
+                part[1] += m * (from[1] - to[1]);
+            }
+        });
+        if record {
+            for c in 0..2 {
+                self.impulse[c] += impulse[c];
+                self.step_impulse[c] += impulse[c];
+                self.impulse_base[c] += base[c];
+                self.impulse_shaft[c] += shaft[c];
+            }
+            self.interface_dissipation += dissipation;
         }
     }
 
     fn take_impulse(&mut self) -> [f64; 2] {
         std::mem::take(&mut self.impulse)
+    }
+
+    /// The interface's slip dissipation (module doc, "Energy"), as the tangential part.
+    fn dissipated_energy(&self) -> [f64; 2] {
+        [0.0, self.interface_dissipation]
     }
 
     /// The contact acts on the velocities of the momentum update (and the MUSL re-map), not on
@@ -808,14 +1143,16 @@ impl RigidBody {
         let region_keys = geometry::region_keys(&table);
         if let Some(key) = table.keys().find(|k| !region_keys.contains(&k.as_str())) {
             return Err(format!(
-                "{context}.{key}: unknown key (a rigid body has name, velocity or motion, friction, contact, experimental \
-                 and its region's keys: {})",
+                "{context}.{key}: unknown key (a rigid body has name, velocity or motion (or mass, force and \
+                 initial_velocity), friction, adhesion, adhesion_limit, contact, experimental and its region's keys: {})",
                 region_keys.join(", ")
             ));
         }
         let (lo, hi) = region.bounding_box();
         let polygon = region.outline();
-        let contact = polygon.mirrored_about(grid_lower[0]).unwrap_or(polygon);
+        let mirror = polygon.mirrored_about(grid_lower[0]);
+        let on_symmetry_plane = mirror.is_some();
+        let contact = mirror.unwrap_or(polygon);
         let span = (grid_upper[0] - grid_lower[0]).max(grid_upper[1] - grid_lower[1]);
         let tol = 1e-9 * span;
         if lo[0] < grid_lower[0] - tol
@@ -828,9 +1165,32 @@ impl RigidBody {
             ));
         }
         let axial_only = "must be 0 in axisymmetric runs (only axial motion of a body of revolution";
+        if config.mass.is_some() {
+            // A body of revolution, or a body on the half model's symmetry plane (the grid's
+            // left edge, where it is mirrored for the contact), moves along y only.
+            let reason = if axisymmetric {
+                axial_only.to_string()
+            } else {
+                format!(
+                    "must be 0 for a body resting on the grid's left edge x = {} (the symmetry plane of a half model: \
+                     it moves along y only",
+                    grid_lower[0]
+                )
+            };
+            let along_y = axisymmetric || on_symmetry_plane;
+            let kinematics = driven(&context, config, along_y.then_some(reason.as_str()))?;
+            return finish(context, config, region, contact, kinematics, lo, tol, axisymmetric);
+        }
+        for (key, given) in [("force", config.force.is_some()), ("initial_velocity", config.initial_velocity.is_some())] {
+            if given {
+                return Err(format!("{context}.{key}: belongs to a force-driven body: give its mass (kg > 0) too"));
+            }
+        }
         let motion = match (&config.velocity, &config.motion) {
             (Some(_), Some(_)) => return Err(format!("{context}.motion: give either velocity or motion, not both")),
-            (None, None) => return Err(format!("{context}.velocity: is required (or a motion table)")),
+            (None, None) => {
+                return Err(format!("{context}.velocity: is required (or a motion table, or a mass for a force-driven body)"))
+            }
             (Some(velocity), None) => {
                 if velocity.iter().any(|v| !v.is_finite()) {
                     return Err(format!("{context}.velocity: must be finite (got {velocity:?})"));
@@ -841,41 +1201,10 @@ impl RigidBody {
                 Motion::constant(*velocity)
             }
             (None, Some(rows)) => {
-                let key = format!("{context}.motion");
-                if rows.is_empty() {
-                    return Err(format!("{key}: must be a non-empty list of rows [t, vx, vy]"));
-                }
-                for (k, row) in rows.iter().enumerate() {
-                    let rk = format!("{key}[{k}]");
-                    if row.iter().any(|v| !v.is_finite()) {
-                        return Err(format!("{rk}: must be finite (got {row:?})"));
-                    }
-                    if k == 0 && row[0] < 0.0 {
-                        return Err(format!("{rk}[0]: the first time must be >= 0 (got {})", row[0]));
-                    }
-                    if k > 0 && !(row[0] > rows[k - 1][0]) {
-                        return Err(format!("{rk}[0]: times must increase strictly (got {} after {})", row[0], rows[k - 1][0]));
-                    }
-                    if axisymmetric && row[1] != 0.0 {
-                        return Err(format!("{rk}[1]: vx {axial_only}; got {})", row[1]));
-                    }
-                }
-                Motion::table(rows)
+                let reason = axial_only.to_string();
+                checked_table(&format!("{context}.motion"), rows, "[t, vx, vy]", "vx", axisymmetric.then_some(reason.as_str()))?
             }
         };
-        let enforcement = match config.contact {
-            ContactKind::Nodes => Enforcement::Nodes,
-            // The stiffness follows from the material and the grid (the solver sets it).
-            ContactKind::Penalty => Enforcement::Penalty(0.0),
-        };
-        // The penalty contact was measured and not adopted (its footing N_c is 8–20 % high,
-        // docs/studies/contact-remedies.md): it is run only when asked for explicitly.
-        if config.contact == ContactKind::Penalty && !config.experimental {
-            return Err(format!("{context}.contact: {PENALTY_IS_EXPERIMENTAL}"));
-        }
-        if axisymmetric && lo[0] < -tol {
-            return Err(format!("{context}: an axisymmetric rigid body must lie at r >= 0 (its region reaches r = {})", lo[0]));
-        }
         // The path is known in advance: it must keep the body inside the grid until the end.
         if end_time.is_finite() {
             let slack = |c: [f64; 2], s: f64| [c[0] + s * tol, c[1] + s * tol];
@@ -887,20 +1216,114 @@ impl RigidBody {
                 ));
             }
         }
-        if !(config.adhesion >= 0.0 && config.adhesion.is_finite()) {
-            return Err(format!("{context}.adhesion: must be a finite number >= 0 Pa (got {})", config.adhesion));
-        }
-        if let Some(limit) = config.adhesion_limit {
-            if !(limit > 0.0 && limit.is_finite()) {
-                return Err(format!("{context}.adhesion_limit: must be a finite number > 0 Pa (got {limit})"));
-            }
-        }
-        let mut body = RigidBody::new(name.clone(), region, contact, motion, config.friction);
-        body.enforcement = enforcement;
-        body.adhesion = config.adhesion;
-        body.adhesion_limit = config.adhesion_limit.unwrap_or(f64::INFINITY);
-        Ok(body)
+        finish(context, config, region, contact, Kinematics::Prescribed(motion), lo, tol, axisymmetric)
     }
+}
+
+/// A table's `mass`, `force` and `initial_velocity` as a force-driven body's [`Dynamics`]
+/// (errors name the key and the allowed range).
+/// `axial_only`: why the body moves along y only (None: it moves freely).
+fn driven(context: &str, config: &RigidBodyConfig, axial_only: Option<&str>) -> Result<Kinematics, String> {
+    for (key, given) in [("velocity", config.velocity.is_some()), ("motion", config.motion.is_some())] {
+        if given {
+            return Err(format!(
+                "{context}.{key}: a body with a mass is driven by its force: give either mass (with force, \
+                 initial_velocity) or {key}, not both"
+            ));
+        }
+    }
+    let mass = config.mass.unwrap_or(f64::NAN);
+    if !(mass > 0.0 && mass.is_finite()) {
+        return Err(format!(
+            "{context}.mass: must be a finite number > 0 kg (the whole body: per metre in plane strain, the whole \
+             ring in axisymmetry; got {mass})"
+        ));
+    }
+    let velocity = config.initial_velocity.unwrap_or([0.0; 2]);
+    if velocity.iter().any(|v| !v.is_finite()) {
+        return Err(format!("{context}.initial_velocity: must be finite m/s (got {velocity:?})"));
+    }
+    if let Some(reason) = axial_only.filter(|_| velocity[0] != 0.0) {
+        return Err(format!("{context}.initial_velocity[0]: {reason}; got {})", velocity[0]));
+    }
+    let force = match &config.force {
+        None => None,
+        Some(rows) => Some(checked_table(&format!("{context}.force"), rows, "[t, fx, fy] (s, N)", "fx", axial_only)?),
+    };
+    Ok(Kinematics::Driven(Dynamics { mass, force, displacement: [0.0; 2], velocity, step_velocity: velocity, kick: [0.0; 2], contact: None,
+        axial_only: axial_only.is_some() }))
+}
+
+/// A table of rows [t, a_x, a_y] linear in time (a `motion` or a `force`) checked, naming
+/// `key`: non-empty, finite, times from ≥ 0 strictly increasing, and the x column `x_name` 0
+/// when `axial_only` gives why.
+fn checked_table(key: &str, rows: &[[f64; 3]], row_form: &str, x_name: &str, axial_only: Option<&str>) -> Result<Motion, String> {
+    if rows.is_empty() {
+        return Err(format!("{key}: must be a non-empty list of rows {row_form}"));
+    }
+    for (k, row) in rows.iter().enumerate() {
+        let rk = format!("{key}[{k}]");
+        if row.iter().any(|v| !v.is_finite()) {
+            return Err(format!("{rk}: must be finite (got {row:?})"));
+        }
+        if k == 0 && row[0] < 0.0 {
+            return Err(format!("{rk}[0]: the first time must be >= 0 s (got {})", row[0]));
+        }
+        if k > 0 && !(row[0] > rows[k - 1][0]) {
+            return Err(format!("{rk}[0]: times must increase strictly (got {} after {})", row[0], rows[k - 1][0]));
+        }
+        if let Some(reason) = axial_only.filter(|_| row[1] != 0.0) {
+            return Err(format!("{rk}[1]: {x_name} {reason}; got {})", row[1]));
+        }
+    }
+    Ok(Motion::table(rows))
+}
+
+/// The checks and settings every rigid body shares after its motion: the contact, the region
+/// at r ≥ 0 in axisymmetry, the adhesion.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    context: String,
+    config: &RigidBodyConfig,
+    region: Box<dyn Region>,
+    contact: Polygon,
+    kinematics: Kinematics,
+    lo: [f64; 2],
+    tol: f64,
+    axisymmetric: bool,
+) -> Result<RigidBody, String> {
+    let enforcement = match config.contact {
+        ContactKind::Nodes => Enforcement::Nodes,
+        // The stiffness follows from the material and the grid (the solver sets it).
+        ContactKind::Penalty => Enforcement::Penalty(0.0),
+    };
+    // The penalty contact was measured and not adopted (its footing N_c is 8–20 % high,
+    // docs/studies/contact-remedies.md): it is run only when asked for explicitly.
+    if config.contact == ContactKind::Penalty && !config.experimental {
+        return Err(format!("{context}.contact: {PENALTY_IS_EXPERIMENTAL}"));
+    }
+    if config.mass.is_some() && config.contact == ContactKind::Penalty {
+        return Err(format!(
+            "{context}.contact: a force-driven body (with a mass) uses the nodal contact, \"nodes\" (its velocity is \
+             solved with the contact's impulse there)"
+        ));
+    }
+    if axisymmetric && lo[0] < -tol {
+        return Err(format!("{context}: an axisymmetric rigid body must lie at r >= 0 (its region reaches r = {})", lo[0]));
+    }
+    if !(config.adhesion >= 0.0 && config.adhesion.is_finite()) {
+        return Err(format!("{context}.adhesion: must be a finite number >= 0 Pa (got {})", config.adhesion));
+    }
+    if let Some(limit) = config.adhesion_limit {
+        if !(limit > 0.0 && limit.is_finite()) {
+            return Err(format!("{context}.adhesion_limit: must be a finite number > 0 Pa (got {limit})"));
+        }
+    }
+    let mut body = RigidBody::new(config.name.clone(), region, contact, kinematics, config.friction);
+    body.enforcement = enforcement;
+    body.adhesion = config.adhesion;
+    body.adhesion_limit = config.adhesion_limit.unwrap_or(f64::INFINITY);
+    Ok(body)
 }
 
 #[cfg(test)]
@@ -1094,6 +1517,106 @@ mod tests {
         assert!(e.starts_with("rigid_bodies[0].friction: must be a number >= 0"), "{e}");
     }
 
+    /// The keys of a force-driven body: refused values name the key and the allowed range.
+    #[test]
+    fn bad_force_driven_bodies_are_rejected_naming_the_key() {
+        let err = |b: Value, axi: bool| build(json!([b]), axi).err().expect("must be rejected");
+        let e = err(square_body(json!({"mass": 0.0})), false);
+        assert!(e.starts_with("rigid_bodies[0].mass: must be a finite number > 0 kg"), "{e}");
+        assert!(err(square_body(json!({"mass": -1.0})), false).starts_with("rigid_bodies[0].mass:"));
+        // NaN (TOML nan) arrives as a non-number in JSON: the type error names the key.
+        let e = err(square_body(json!({"mass": "nan"})), false);
+        assert!(e.starts_with("rigid_bodies[0].mass"), "{e}");
+        let e = err(square_body(json!({"mass": 1.0, "velocity": [0.0, -1.0]})), false);
+        assert!(e.starts_with("rigid_bodies[0].velocity: a body with a mass") && e.contains("not both"), "{e}");
+        let e = err(square_body(json!({"mass": 1.0, "motion": [[0.0, 0.0, -1.0]]})), false);
+        assert!(e.starts_with("rigid_bodies[0].motion: a body with a mass"), "{e}");
+        let e = err(square_body(json!({"velocity": [0.0, -1.0], "force": [[0.0, 0.0, -1.0]]})), false);
+        assert!(e.starts_with("rigid_bodies[0].force: belongs to a force-driven body"), "{e}");
+        let e = err(square_body(json!({"velocity": [0.0, -1.0], "initial_velocity": [0.0, 1.0]})), false);
+        assert!(e.starts_with("rigid_bodies[0].initial_velocity: belongs to a force-driven body"), "{e}");
+        let e = err(square_body(json!({"mass": 1.0, "force": [[0.0, 0.0, -1.0], [0.0, 0.0, -2.0]]})), false);
+        assert!(e.starts_with("rigid_bodies[0].force[1][0]: times must increase strictly"), "{e}");
+        let e = err(square_body(json!({"mass": 1.0, "force": [[-1.0, 0.0, -1.0]]})), false);
+        assert!(e.starts_with("rigid_bodies[0].force[0][0]: the first time must be >= 0"), "{e}");
+        let e = err(square_body(json!({"mass": 1.0, "force": []})), false);
+        assert!(e.starts_with("rigid_bodies[0].force: must be a non-empty list"), "{e}");
+        let e = err(square_body(json!({"mass": 1.0, "force": [[0.0, 1.0, -1.0]]})), true);
+        assert!(e.starts_with("rigid_bodies[0].force[0][1]: fx must be 0 in axisymmetric runs"), "{e}");
+        let e = err(square_body(json!({"mass": 1.0, "initial_velocity": [0.5, 0.0]})), true);
+        assert!(e.starts_with("rigid_bodies[0].initial_velocity[0]: must be 0 in axisymmetric runs"), "{e}");
+        // On the half model's symmetry plane (the grid's left edge) a body moves along y only.
+        let half = json!({"name": "footing", "min": [0.0, 0.5], "max": [0.25, 0.75], "mass": 1.0,
+                          "force": [[0.0, 0.5, -1.0]]});
+        let e = err(half, false);
+        assert!(e.starts_with("rigid_bodies[0].force[0][1]: fx must be 0 for a body resting on the grid's left edge"), "{e}");
+        let half = json!({"name": "footing", "min": [0.0, 0.5], "max": [0.25, 0.75], "mass": 1.0, "initial_velocity": [0.1, 0.0]});
+        assert!(err(half, false).starts_with("rigid_bodies[0].initial_velocity[0]: must be 0 for a body resting"));
+        let e = err(square_body(json!({"mass": 1.0, "contact": "penalty", "experimental": true})), false);
+        assert!(e.starts_with("rigid_bodies[0].contact: a force-driven body"), "{e}");
+        let ok = build(json!([square_body(json!({"mass": 2.0, "force": [[0.0, 0.0, -1.0], [1.0, 0.0, -3.0]],
+                                                  "initial_velocity": [0.0, -0.5]}))]), true)
+            .unwrap();
+        assert!(matches!(ok[0].kinematics(), Kinematics::Driven(_)));
+        assert_eq!(ok[0].velocity(0.0), [0.0, -0.5]);
+        assert_eq!(ok[0].displacement(0.0), [0.0, 0.0]);
+    }
+
+    /// One step of a force-driven body by hand: M = 2 kg per metre at V = (0.5, −1), force
+    /// ramping from (2, −4) N at t = 0 to (4, −8) N at t = 1, gravity (0, −10), dt = 0.1 from
+    /// t = 0.5: the force's impulse is ∫ F = 0.1 × (3.1, −6.2) = (0.31, −0.62) N s (F at the
+    /// step's middle), so ΔV_ext = (0.155, −0.31 − 1) = (0.155, −1.31); without contact w = V + ΔV_ext/2,
+    /// X = dt w and V ← V + ΔV_ext. In axisymmetry the radial parts stay 0. A contact impulse J
+    /// (per metre) adds J/M to V; the body's work is −J·w.
+    #[test]
+    fn a_force_driven_step_by_hand() {
+        let body = square_body(json!({"mass": 2.0, "initial_velocity": [0.5, -1.0],
+                                      "force": [[0.0, 2.0, -4.0], [1.0, 4.0, -8.0]]}));
+        let mut b = build(json!([body]), false).unwrap().pop().unwrap();
+        b.begin_step(0.5, 0.1, [0.0, -10.0]);
+        let close = |a: [f64; 2], e: [f64; 2]| (a[0] - e[0]).abs() < 1e-14 && (a[1] - e[1]).abs() < 1e-14;
+        let kick = [0.155, -1.31];
+        let w = [0.5 + 0.5 * kick[0], -1.0 + 0.5 * kick[1]];
+        let (start, end, mean) = b.step_motion(0.5, 0.1);
+        assert!(start == [0.0; 2] && close(mean, w) && close(end, [0.1 * w[0], 0.1 * w[1]]), "{end:?} {mean:?}");
+        b.step_impulse = [0.3, 0.8];
+        b.end_step(0.5, 0.1, 1.0);
+        assert!(close(b.displacement(0.6), [0.1 * w[0], 0.1 * w[1]]), "{:?}", b.displacement(0.6));
+        let v = [0.5 + kick[0] + 0.3 / 2.0, -1.0 + kick[1] + 0.8 / 2.0];
+        assert!(close(b.state().velocity, v), "{:?} vs {v:?}", b.state().velocity);
+        // Reported: the velocity it moved with over the step.
+        assert!(close(b.velocity(0.6), w), "{:?} vs {w:?}", b.velocity(0.6));
+        assert!((b.work() + 0.3 * w[0] + 0.8 * w[1]).abs() < 1e-15, "{}", b.work());
+        assert_eq!(b.step_impulse, [0.0; 2], "taken by the step");
+        // The state round-trips through a checkpoint's record.
+        let state = b.state();
+        let mut c = build(json!([square_body(json!({"mass": 2.0}))]), false).unwrap().pop().unwrap();
+        c.restore(&state);
+        assert_eq!(c.state(), b.state());
+        // Axisymmetric: the whole ring's impulse is 2π times the per-radian one, axial only.
+        let body = square_body(json!({"mass": 2.0, "initial_velocity": [0.0, -1.0], "force": [[0.0, 0.0, -4.0]]}));
+        let mut b = build(json!([body]), true).unwrap().pop().unwrap();
+        b.begin_step(0.0, 0.1, [1.0, -10.0]);
+        b.step_impulse = [0.3, 0.8];
+        b.end_step(0.0, 0.1, std::f64::consts::TAU);
+        let v = b.state().velocity;
+        assert!(v[0] == 0.0 && (v[1] - (-1.0 - 0.2 - 1.0 + std::f64::consts::TAU * 0.8 / 2.0)).abs() < 1e-14, "{v:?}");
+        assert!((b.displacement(0.1)[1] - 0.1 * (-1.0 - 0.6)).abs() < 1e-15);
+        // A body on the symmetry plane (plane strain) keeps vx = 0 whatever the impulse.
+        let half = json!({"name": "footing", "min": [0.0, 0.5], "max": [0.25, 0.75], "mass": 2.0});
+        let mut b = build(json!([half]), false).unwrap().pop().unwrap();
+        b.begin_step(0.0, 0.1, [1.0, 0.0]);
+        b.step_impulse = [0.3, 0.8];
+        b.end_step(0.0, 0.1, 1.0);
+        assert_eq!(b.state().velocity, [0.0, 0.4]);
+        // A prescribed body books its work too, and does not move by it.
+        let mut p = build(json!([square_body(json!({"velocity": [0.0, -2.0]}))]), false).unwrap().pop().unwrap();
+        p.step_impulse = [1.0, 3.0];
+        p.end_step(0.0, 0.1, 1.0);
+        assert!((p.work() - 6.0).abs() < 1e-15, "{}", p.work());
+        assert!((p.displacement(0.1)[1] + 0.2).abs() < 1e-15);
+    }
+
     /// On a 4 × 4-cell grid (h = 0.25) the plate [0.25, 0.75] × [0.5, 0.75] (moving down, by
     /// less than the boundary tolerance over the step) covers the nodes i = 1..3, j = 2..3.
     /// Material moving at (0.5, 0) everywhere: only the covered nodes with mass change, by the
@@ -1148,6 +1671,78 @@ mod tests {
         // Base interior and bottom-right: (0, 2) each; bottom-left (left face, then the base
         // within the tie): (1, 2).
         assert!((total[0] - 1.0).abs() < 1e-9 && (total[1] - 6.0).abs() < 1e-9, "{total:?}");
+    }
+
+    /// The energy of the contact by hand: the plate's base (normal −y) moving down at 1 m/s
+    /// over one node of mass 2 sliding at 0.5 m/s, Coulomb 0.2: the node approaches at 1 m/s,
+    /// keeps 0.5 − 0.2 × 1 = 0.3 m/s of slip, so j = 2 (0.2, 1) = (0.4, 2); the slip left
+    /// dissipates j·(v_after − w) = 0.4 × 0.3 = 0.12 J, and the step's work on the material is
+    /// −J·w = 2 J. Unrecorded calls book nothing.
+    #[test]
+    fn the_contact_books_the_slip_dissipation_and_the_work() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let mut b = build(json!([square_body(json!({"velocity": [0.0, -1.0], "friction": 0.2}))]), false).unwrap().pop().unwrap();
+        let mut mass = vec![0.0; grid.num_nodes()];
+        let node = grid.node_index(2, 2);
+        mass[node] = 2.0;
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: false };
+        let mut v = vec![[0.0; 2]; grid.num_nodes()];
+        v[node] = [0.5, 0.0];
+        b.apply(&context, &mut v, false);
+        assert_eq!(b.dissipated_energy(), [0.0, 0.0]);
+        v[node] = [0.5, 0.0];
+        b.apply(&context, &mut v, true);
+        assert!((v[node][0] - 0.3).abs() < 1e-12 && (v[node][1] + 1.0).abs() < 1e-12, "{:?}", v[node]);
+        let [normal, slip] = b.dissipated_energy();
+        assert!(normal == 0.0 && (slip - 0.12).abs() < 1e-12, "{slip}");
+        b.end_step(0.0, 1e-13, 1.0);
+        assert!((b.work() - 2.0).abs() < 1e-9, "{}", b.work());
+    }
+
+    /// A force-driven plate (2 kg per metre, no force, no gravity) meets material at rest: the
+    /// three base nodes of the 4 × 4 grid (mass 1 each) and the plate end the step with one
+    /// velocity, the centre of mass one: moving down at 1 m/s, smooth: 2 × (−1)/(2 + 3) = −0.4
+    /// m/s; moving at (1, −1) m/s, rough: (0.4, −0.4). The nodes take the impulse −J, the
+    /// plate +J (J = 3 × 0.4 per component), so the momentum 2 × w₀ is kept; the re-map of the
+    /// step uses the same velocity.
+    #[test]
+    fn a_force_driven_body_and_the_nodes_it_hits_share_one_velocity() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let mut mass = vec![0.0; grid.num_nodes()];
+        let base = [grid.node_index(1, 2), grid.node_index(2, 2), grid.node_index(3, 2)];
+        for &n in &base {
+            mass[n] = 1.0;
+        }
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: false };
+        for (v0, friction, w) in [([0.0, -1.0], json!(0.0), [0.0, -0.4]), ([1.0, -1.0], json!("rough"), [0.4, -0.4])] {
+            let body = square_body(json!({"mass": 2.0, "initial_velocity": v0, "friction": friction}));
+            let mut b = build(json!([body]), false).unwrap().pop().unwrap();
+            b.begin_step(0.0, 1e-13, [0.0, 0.0]);
+            let mut v = vec![[0.0; 2]; grid.num_nodes()];
+            b.apply(&context, &mut v, true);
+            for &n in &base {
+                assert!((v[n][0] - w[0]).abs() < 1e-12 && (v[n][1] - w[1]).abs() < 1e-12, "{friction}: {:?}", v[n]);
+            }
+            let mut remapped = vec![[0.0; 2]; grid.num_nodes()];
+            b.apply(&context, &mut remapped, false);
+            assert_eq!(remapped[base[1]], v[base[1]], "{friction}: the re-map uses the solved velocity");
+            let j = b.step_impulse;
+            assert!((j[0] + 3.0 * w[0]).abs() < 1e-12 && (j[1] + 3.0 * w[1]).abs() < 1e-12, "{friction}: {j:?}");
+            b.end_step(0.0, 1e-13, 1.0);
+            let v_body = b.state().velocity;
+            for c in 0..2 {
+                assert!((2.0 * v_body[c] + 3.0 * w[c] - 2.0 * v0[c]).abs() < 1e-12, "{friction}: momentum {v_body:?}");
+                assert!((b.velocity(0.0)[c] - w[c]).abs() < 1e-12);
+            }
+        }
+        // Axisymmetric: the same per radian with the ring's mass 2π × 2 kg, axial only.
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: true };
+        let body = square_body(json!({"mass": 2.0 * std::f64::consts::TAU, "initial_velocity": [0.0, -1.0]}));
+        let mut b = build(json!([body]), true).unwrap().pop().unwrap();
+        b.begin_step(0.0, 1e-13, [0.0, 0.0]);
+        let mut v = vec![[0.0; 2]; grid.num_nodes()];
+        b.apply(&context, &mut v, true);
+        assert!((v[base[1]][1] + 0.4).abs() < 1e-12 && v[base[1]][0] == 0.0, "{:?}", v[base[1]]);
     }
 
     /// Nodes outside the body count as covered up to the reach: with the plate's base at

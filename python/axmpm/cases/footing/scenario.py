@@ -57,7 +57,7 @@ import numpy as np
 from ...scenario import Scenario
 
 __all__ = ["WIDTH", "UNDRAINED_STRENGTH", "EXACT", "SETTLEMENT_WINDOW", "footing_scenario", "load_settlement",
-           "bearing_capacity_factor", "footing_area", "MESHES"]
+           "bearing_capacity_factor", "footing_area", "MESHES", "loaded_footing_scenario", "footing_mass"]
 
 WIDTH = 1.0  # B, m: strip width or circle diameter
 UNDRAINED_STRENGTH = 10.0e3  # s_u, Pa
@@ -149,6 +149,32 @@ def footing_scenario(formulation: str = "plane_strain", roughness: str = "smooth
         "boundaries": {"left": "roller", "right": "roller", "bottom": "fixed", "top": "free"},
     }
     return Scenario.from_dict(data, source=f"footing {formulation} {roughness} B/h={cells_per_width}")
+
+
+def footing_mass(formulation: str) -> float:
+    """Mass of the loaded footing, kg (per metre of the half strip, or the whole disc): a
+    concrete footing of the scenario's thickness, ρ = 2400 kg/m³."""
+    return 2400.0 * FOOTING_THICKNESS * footing_area(formulation)
+
+
+def loaded_footing_scenario(formulation: str, roughness: str, cells_per_width: int, load_fraction: float,
+                            duration: float, ramp_time: float = 0.2, shape_function: str = "cpgimp") -> Scenario:
+    """The footing of :func:`footing_scenario` driven by a load instead of a velocity: a
+    force-driven rigid body of mass :func:`footing_mass` under the pressure ``load_fraction`` ×
+    q_ult on its area (q_ult = N_c s_u with the exact N_c of ``EXACT``; the force per metre of
+    the half strip, or of the whole disc), ramped in linearly over ``ramp_time`` and then held,
+    run for ``duration`` seconds (weightless soil, as the original)."""
+    scenario = footing_scenario(formulation, roughness, cells_per_width, shape_function)
+    data = scenario.model_dump(mode="json", exclude_none=True)
+    load = load_fraction * EXACT[(formulation, roughness)] * UNDRAINED_STRENGTH * footing_area(formulation)
+    body = data["rigid_bodies"][0]
+    body.pop("motion", None)
+    body.pop("velocity", None)
+    body.update(mass=footing_mass(formulation), force=[[0.0, 0.0, 0.0], [ramp_time, 0.0, -load]])
+    data["simulation"].update(end_time=duration, output_interval=duration,
+                              history_interval=duration / 200.0)
+    source = f"loaded footing {formulation} {roughness} B/h={cells_per_width} {load_fraction} q_ult"
+    return Scenario.from_dict(data, source=source)
 
 
 def load_settlement(run_dir: str | Path, formulation: str) -> tuple[np.ndarray, np.ndarray]:
