@@ -214,22 +214,7 @@ impl Polygon {
     /// Returns (its length, ∫ x₀ ds over it): the area per metre, and per radian in axisymmetry.
     pub fn face_band(&self, x: [f64; 2], normal: [f64; 2], band: [f64; 2], min_x: f64) -> (f64, f64) {
         let n = self.vertices.len();
-        let mut best: Option<(bool, f64, usize)> = None;
-        for i in 0..n {
-            let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
-            let e = sub(b, a);
-            let t = (dot(sub(x, a), e) / dot(e, e)).clamp(0.0, 1.0);
-            let d = sub(x, [a[0] + t * e[0], a[1] + t * e[1]]);
-            let key = (dot(self.normals[i], normal) > 1.0 - 1e-9, dot(d, d));
-            let better = match best {
-                None => true,
-                Some((matches, distance, _)) => (key.0 && !matches) || (key.0 == matches && key.1 < distance),
-            };
-            if better {
-                best = Some((key.0, key.1, i));
-            }
-        }
-        let Some((_, _, i)) = best else { return (0.0, 0.0) };
+        let Some((i, _)) = self.face_with_normal(x, normal) else { return (0.0, 0.0) };
         let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
         let e = sub(b, a);
         let length = dot(e, e).sqrt();
@@ -252,6 +237,36 @@ impl Polygon {
         }
         let mid = a[0] + 0.5 * (lo + hi) * u[0];
         (hi - lo, (hi - lo) * mid)
+    }
+
+    /// The point of a face nearest to `x`, on the edge with outward normal `normal` nearest to
+    /// `x` (the nearest edge when none has it): where a contact correction along `normal` at `x`
+    /// acts on the body.
+    pub fn foot_on_face(&self, x: [f64; 2], normal: [f64; 2]) -> [f64; 2] {
+        self.face_with_normal(x, normal).map_or(x, |(_, foot)| foot)
+    }
+
+    /// The edge with outward normal `normal` nearest to `x` (the nearest edge when none has it)
+    /// and the point of it nearest to `x`; `None` for a polygon without edges.
+    fn face_with_normal(&self, x: [f64; 2], normal: [f64; 2]) -> Option<(usize, [f64; 2])> {
+        let n = self.vertices.len();
+        let mut best: Option<(bool, f64, usize, [f64; 2])> = None;
+        for i in 0..n {
+            let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
+            let e = sub(b, a);
+            let t = (dot(sub(x, a), e) / dot(e, e)).clamp(0.0, 1.0);
+            let foot = [a[0] + t * e[0], a[1] + t * e[1]];
+            let d = sub(x, foot);
+            let key = (dot(self.normals[i], normal) > 1.0 - 1e-9, dot(d, d));
+            let better = match best {
+                None => true,
+                Some((matches, distance, _, _)) => (key.0 && !matches) || (key.0 == matches && key.1 < distance),
+            };
+            if better {
+                best = Some((key.0, key.1, i, foot));
+            }
+        }
+        best.map(|(_, _, i, foot)| (i, foot))
     }
 
     /// Crossing-number test (even–odd rule), boundary not included reliably.
