@@ -14,9 +14,11 @@ contact = "nodes"                # or "penalty", experimental (docs/studies/cont
 parts = [{ name = "tip", below = 0.0309 }, { name = "sleeve", below = 0.1646 }]  # optional
 ```
 
-``parts`` names pieces of the body's reaction by height: a covered node's reaction goes to the
-first part whose ``below`` (m above the body's lowest point, in its own frame: the heights move
-with the body) exceeds the node's height, and above the last to ``rest``. The history then has
+``parts`` names pieces of the body's reaction by height: the contact's correction along a face
+goes to the first part whose ``below`` (m above the body's lowest point, in its own frame: the
+heights move with the body) is at or above the point of the face where it acts, and above the
+last ``below`` to ``rest``; a part ending at a vertex (a cone's shoulder) takes exactly the faces
+below it. The history then has
 ``NAME.PART_force_y`` (and ``_x`` in plane strain) for each part and ``rest``, besides the
 ``base``/``shaft`` split by face normal; each split sums to ``NAME.force_y``. E.g. a cone
 penetrometer: the cone below its shoulder is the tip, the 150 cm² friction sleeve above it.
@@ -87,8 +89,9 @@ class RigidBodyKeys(Section):
                                          "interface (none: unlimited)")
     parts: list[RigidBodyPart] = Field(
         default_factory=list, description="named parts of the reaction by height, [{ name, below }, ...]: "
-        "a node's reaction goes to the first part whose below (m above the body's lowest point) exceeds its "
-        "height, above the last to rest; history columns NAME.PART_force_y per part and rest")
+        "the contact force on a face goes to the first part whose below (m above the body's lowest point, "
+        "in its own frame) is at or above where it acts, above the last to rest; history columns "
+        "NAME.PART_force_y (and _x in plane strain) per part and rest")
 
 
 def rigid_body_class(region: type[Region]) -> type[Section]:
