@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ...report import fmt, pct
+from ...report import checks_table, fmt, pct
 from .. import RunSpec, register
 from .scenario import (DIAMETER, MESHES, PUSH, RADIUS, RIGIDITY_INDICES, ROUGHNESS, SLEEVE_AREA, WINDOW, cone_scenario,
                        domain,
@@ -194,9 +194,6 @@ class ConePenetration:
                                 "band of their initial depth (one band per cone radius).*\n")
             except Exception as exc:  # noqa: BLE001 - a report without figures is still a report
                 figures = f"(figures not written: {type(exc).__name__}: {exc})\n"
-        lines = ["| check | result | detail |", "|---|---|---|"]
-        lines += [f"| {c['name']} | {'pass' if c['passed'] else ('**FAIL**' if c.get('required', True) else 'missed (aim)')} "
-                  f"| {c.get('detail', '')} |" for c in checks]
         return f"""# axmpm verification: cone penetration in undrained clay
 
 A standard cone (R = 17.85 mm, 60° apex, a shaft of radius R behind it) pushed into weightless
@@ -215,7 +212,7 @@ N_c = (4/3)(1 + ln I_r)(1.25 + I_r/2000) + 2.4α_f − 0.2α_s (reported); docs/
 
 ## Checks
 
-{chr(10).join(lines)}
+{checks_table(checks)}
 
 ## Figures
 
