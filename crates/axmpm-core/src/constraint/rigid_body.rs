@@ -1287,6 +1287,20 @@ mod tests {
             b.apply(&context, &mut vec![[0.5, 0.0]; n], false);
             assert!(b.take_named_parts().iter().all(|(_, i)| *i == [0.0, 0.0]));
         }
+        // The round-off allowance is 10⁻⁹ of the body's size (0.5 m here: 5·10⁻¹⁰ m): the top
+        // row's feet (height 0.25) are the tip's when it ends 3·10⁻¹⁰ m below them, the rest's
+        // when it ends 7·10⁻¹⁰ m below.
+        for (gap, top_row_is_tip) in [(3e-10, true), (7e-10, false)] {
+            let parts = json!([{"name": "tip", "below": 0.25 - gap}]);
+            let mut b = build(json!([square_body(json!({"velocity": [0.0, -1.0], "parts": parts}))]), false)
+                .unwrap()
+                .pop()
+                .unwrap();
+            b.apply(&context, &mut vec![[0.5, 0.0]; n], true);
+            let named = b.take_named_parts();
+            let (tip, rest) = if top_row_is_tip { ([2.0, 6.0], [0.0, 0.0]) } else { ([1.0, 6.0], [1.0, 0.0]) };
+            assert!(close(named[0].1, tip) && close(named[1].1, rest), "gap {gap}: {named:?}");
+        }
         // Each face's correction goes by its foot, not by the node's height: the plate's base
         // 0.05 below the row j = 2, mass at the corner node (1, 2) only (0.05 above the base).
         // Its left face (foot (0.25, 0.5), height 0.05) stops the rightward 0.5: (1, 0); then
