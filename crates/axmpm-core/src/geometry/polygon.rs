@@ -559,6 +559,26 @@ mod tests {
         assert_eq!((n, second), ([0.0, -1.0], None));
     }
 
+    /// The foot of a point on the nearest edge with a given normal, clamped to the edge: on the
+    /// L-shape the two upward faces y = 2 (x in [0, 1]) and y = 1 (x in [1, 2]) are chosen by
+    /// distance; a normal no edge has falls back to the nearest edge.
+    #[test]
+    fn foot_on_face_by_hand() {
+        let p = ell();
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12;
+        let cases = [
+            ([1.8, 1.5], [0.0, 1.0], [1.8, 1.0]),  // y = 1 face 0.5 away, y = 2 face 0.94
+            ([0.5, 2.3], [0.0, 1.0], [0.5, 2.0]),
+            ([0.9, 0.8], [0.0, -1.0], [0.9, 0.0]), // inside: the base, though the corner (1, 1) is nearer
+            ([2.5, -0.5], [0.0, -1.0], [2.0, 0.0]), // clamped to the base's end
+            ([2.3, 1.4], [0.6, 0.8], [2.0, 1.0]),  // no such normal: the nearest edge (the corner)
+        ];
+        for (x, normal, want) in cases {
+            let got = p.foot_on_face(x, normal);
+            assert!(close(got, want), "{x:?} {normal:?}: {got:?}");
+        }
+    }
+
     #[test]
     fn translated_moves_everything() {
         let p = ell();
