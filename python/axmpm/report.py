@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-__all__ = ["DASH", "number", "pct", "fmt"]
+__all__ = ["DASH", "number", "pct", "fmt", "checks_table"]
 
 #: What a table cell shows for a missing value.
 DASH = "—"
@@ -35,3 +35,13 @@ def fmt(value: Any, spec: str = ".3g") -> str:
     """``format(value, spec)``, or :data:`DASH` when there is no number."""
     x = number(value)
     return DASH if x is None else format(x, spec)
+
+
+def checks_table(checks: list[dict[str, Any]]) -> str:
+    """A Markdown table of a case's checks: name, result (pass, **FAIL**, or "missed (aim)" for a
+    check with ``required`` False) and detail."""
+    lines = ["| check | result | detail |", "|---|---|---|"]
+    for c in checks:
+        result = "pass" if c["passed"] else ("**FAIL**" if c.get("required", True) else "missed (aim)")
+        lines.append(f"| {c['name']} | {result} | {c.get('detail', '')} |")
+    return "\n".join(lines)

@@ -608,6 +608,10 @@ pub struct RigidBodyConfig {
     /// Largest shear stress of the interface a_lim, Pa (> 0; none: unlimited).
     #[serde(default)]
     pub adhesion_limit: Option<f64>,
+    /// Named parts of the body's reaction by height ([`RigidBodyPartConfig`]); empty: none
+    /// (the base/shaft split by face normal is always reported).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<RigidBodyPartConfig>,
     /// `shape` and the shape's keys (rectangle: `min`, `max`; polygon: `vertices`).
     #[serde(flatten)]
     pub region: serde_json::Map<String, serde_json::Value>,
@@ -629,9 +633,24 @@ impl RigidBodyConfig {
             experimental: false,
             adhesion: 0.0,
             adhesion_limit: None,
+            parts: Vec::new(),
             region,
         }
     }
+}
+
+/// One entry of a rigid body's `parts`: the reaction taken by the covered nodes lower than
+/// `below` (m, measured up from the body's lowest point, in the body's own frame: it moves
+/// with the body) and not taken by an earlier part goes to the part `name`. What lies above
+/// the last part is `rest`. E.g. a cone penetrometer's `tip` below its shoulder and a
+/// `sleeve` above it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigidBodyPartConfig {
+    /// Names the history columns `BODY.NAME_force_x/y`.
+    pub name: String,
+    /// Upper end of the part, m above the body's lowest point (> 0, increasing along `parts`).
+    pub below: f64,
 }
 
 // --------------------------------------------------------------------------- saturated soil

@@ -655,19 +655,24 @@ impl Simulation {
     }
 
     /// Per rigid body, the mean force (N, whole body) the material exerted on it since the last
-    /// call, split into the base (contact normals facing down) and the rest (the shaft):
-    /// `(name, base, shaft)`. Independent of [`Simulation::reactions`], whose force is their sum.
-    pub fn rigid_body_parts(&mut self) -> Vec<(String, [f64; 2], [f64; 2])> {
+    /// call, split into parts: `base` (contact normals facing down) and `shaft` (the rest), then
+    /// the body's named parts by height and `rest` if it names any
+    /// (`constraint::rigid_body`, "Reaction"). Each split sums to the body's force in
+    /// [`Simulation::reactions`], which keeps its own interval.
+    pub fn rigid_body_parts(&mut self) -> Vec<(String, Vec<(String, [f64; 2])>)> {
         use crate::constraint::Constraint;
         let elapsed = self.state.time - self.parts_since;
         self.parts_since = self.state.time;
         let scale = if elapsed > 0.0 { self.total_factor() / elapsed } else { 0.0 };
+        let force = |impulse: [f64; 2]| [impulse[0] * scale, impulse[1] * scale];
         self.state
             .constraints
             .rigid_bodies_mut()
             .map(|b| {
                 let (base, shaft) = b.take_impulse_parts();
-                (b.name().to_string(), [base[0] * scale, base[1] * scale], [shaft[0] * scale, shaft[1] * scale])
+                let mut parts = vec![("base".to_string(), force(base)), ("shaft".to_string(), force(shaft))];
+                parts.extend(b.take_named_parts().into_iter().map(|(name, impulse)| (name, force(impulse))));
+                (b.name().to_string(), parts)
             })
             .collect()
     }

@@ -222,11 +222,16 @@ impl PySimulation {
     fn rigid_body_velocities(&self) -> Vec<(String, f64, f64)> {
         self.inner.rigid_body_velocities().into_iter().map(|(name, v)| (name, v[0], v[1])).collect()
     }
-    /// Per rigid body, the mean force (N, whole body) since the last call split into the base
-    /// (contact normals facing down) and the rest (shaft):
-    /// [(name, base_x, base_y, shaft_x, shaft_y), ...]. Resets its own accumulators.
-    fn rigid_body_parts(&mut self) -> Vec<(String, f64, f64, f64, f64)> {
-        self.inner.rigid_body_parts().into_iter().map(|(name, b, s)| (name, b[0], b[1], s[0], s[1])).collect()
+    /// Per rigid body, the mean force (N, whole body) since the last call split into parts:
+    /// `base` (contact normals facing down), `shaft` (the rest), then the body's named parts by
+    /// height and `rest` if it names any: [(name, [(part, fx, fy), ...]), ...]. Resets its own
+    /// accumulators.
+    fn rigid_body_parts(&mut self) -> Vec<(String, Vec<(String, f64, f64)>)> {
+        self.inner
+            .rigid_body_parts()
+            .into_iter()
+            .map(|(name, parts)| (name, parts.into_iter().map(|(part, f)| (part, f[0], f[1])).collect()))
+            .collect()
     }
     /// Wall seconds spent in each phase of the step since construction:
     /// {"particle_to_grid", "grid_update", "grid_to_particle", "constitutive_update"}.

@@ -15,7 +15,9 @@ Layout of a run folder::
                              the ring, in place of a force_x); per rigid body also
                              NAME.displacement_x/y (m), NAME.velocity_x/y (m/s) and the force split into
                              NAME.base_force_x/y (contact normals facing down) and
-                             NAME.shaft_force_x/y (the rest); per surcharge
+                             NAME.shaft_force_x/y (the rest), and for a body with
+                             named parts NAME.PART_force_x/y per part and
+                             NAME.rest_force_x/y (above the last); per surcharge
                              NAME.applied_force_y, the force it applies to the material
                              (N, negative: downward); saturated runs also
                              water_outflow (m³ per metre or radian: the water that left
@@ -675,16 +677,19 @@ class Run:
     @property
     def rigid_bodies(self) -> dict[str, dict[str, NDArray[np.float64]]]:
         """Per rigid body, at every history row: ``displacement``, ``force``, ``base_force``,
-        ``shaft_force`` as (T, 2) arrays [x, y] (m; N, the mean since the previous row, whole body;
-        base: contact with normals facing down, shaft: the rest)."""
+        ``shaft_force`` and, for a body with named parts, ``PART_force`` for each part and
+        ``rest_force``, as (T, 2) arrays [x, y] (m; N, the mean since the previous row, whole
+        body; base: contact with normals facing down, shaft: the rest)."""
         history = self.history
         names = [c[: -len(".displacement_x")] for c in history if c.endswith(".displacement_x")]
         out: dict[str, dict[str, NDArray[np.float64]]] = {}
         for n in names:
+            keys = ["displacement", "force"] + [c[len(n) + 1: -len("_y")] for c in history
+                                                if c.startswith(f"{n}.") and c.endswith("_force_y")]
             # Axisymmetric forces have no _x column: a ring's radial resultant is zero.
             pair = {key: np.stack([history.get(f"{n}.{key}_x", np.zeros_like(history[f"{n}.{key}_y"])),
                                    history[f"{n}.{key}_y"]], axis=1)
-                    for key in ("displacement", "force", "base_force", "shaft_force") if f"{n}.{key}_y" in history}
+                    for key in keys if f"{n}.{key}_y" in history}
             out[n] = pair
         return out
 

@@ -103,35 +103,43 @@ def reaction_columns(reactions: dict[str, list[float]], axisymmetric: bool) -> d
 
 def rigid_body_columns(sim: Any, axisymmetric: bool = False) -> dict[str, float]:
     """History columns of the rigid bodies at the current output time: ``NAME.displacement_x/y``
-    (m), ``NAME.velocity_x/y`` (m/s: the prescribed one, or a force-driven body's) and the base/shaft split of the force, ``NAME.base_force_x/y``, ``NAME.shaft_force_x/y``
-    (N, mean since the previous row; base: contact with normals facing down). Their total is the
-    ``NAME.force_x/y`` column of the reactions. Axisymmetric: the axial parts ``_y`` only (a
-    ring's radial resultant is zero; see :func:`reaction_columns`)."""
+    (m), ``NAME.velocity_x/y`` (m/s: the prescribed one, or a force-driven body's) and the force
+    split into parts, ``NAME.PART_force_x/y`` (N, mean since the previous row): ``base`` (contact
+    with normals facing down) and ``shaft`` (the rest), and, for a body with ``parts``, each named
+    part by height and ``rest``. Each split sums to the ``NAME.force_x/y`` column of the reactions.
+    Axisymmetric: the axial parts ``_y`` only (a ring's radial resultant is zero; see
+    :func:`reaction_columns`)."""
     columns: dict[str, float] = {}
-    parts = {name: (bx, by, sx, sy) for name, bx, by, sx, sy in sim.rigid_body_parts()}
+    parts = dict(sim.rigid_body_parts())
     velocities = {name: (vx, vy) for name, vx, vy in sim.rigid_body_velocities()}
     for name, dx, dy in sim.rigid_body_displacements():
-        bx, by, sx, sy = parts[name]
         vx, vy = velocities[name]
         columns.update({f"{name}.displacement_x": float(dx), f"{name}.displacement_y": float(dy)})
         if not axisymmetric:
             columns[f"{name}.velocity_x"] = float(vx)
         columns[f"{name}.velocity_y"] = float(vy)
-        if not axisymmetric:
-            columns.update({f"{name}.base_force_x": float(bx), f"{name}.shaft_force_x": float(sx)})
-        columns.update({f"{name}.base_force_y": float(by), f"{name}.shaft_force_y": float(sy)})
+        for part, fx, fy in parts[name]:
+            if not axisymmetric:
+                columns[f"{name}.{part}_force_x"] = float(fx)
+            columns[f"{name}.{part}_force_y"] = float(fy)
     return columns
 
 
 def rigid_body_summary(columns: dict[str, float], reactions: dict[str, list[float]]) -> dict[str, Any]:
     """summary.json's ``rigid_bodies``: per body, the last row's displacement, force and its
-    base and shaft parts (axisymmetric: radial components 0, a ring's radial resultant)."""
+    parts, ``PART_force`` (``base_force``, ``shaft_force`` and any named parts; axisymmetric:
+    radial components 0, a ring's radial resultant)."""
     names = [c[: -len(".displacement_x")] for c in columns if c.endswith(".displacement_x")]
-    return {n: {"displacement": [columns[f"{n}.displacement_x"], columns[f"{n}.displacement_y"]],
-                "force": reactions.get(n, [float("nan")] * 2),
-                "base_force": [columns.get(f"{n}.base_force_x", 0.0), columns[f"{n}.base_force_y"]],
-                "shaft_force": [columns.get(f"{n}.shaft_force_x", 0.0), columns[f"{n}.shaft_force_y"]]}
-            for n in names}
+    summary: dict[str, Any] = {}
+    for n in names:
+        entry: dict[str, Any] = {"displacement": [columns[f"{n}.displacement_x"], columns[f"{n}.displacement_y"]],
+                                 "force": reactions.get(n, [float("nan")] * 2)}
+        for column in columns:
+            if column.startswith(f"{n}.") and column.endswith("_force_y"):
+                key = column[len(n) + 1: -len("_y")]
+                entry[key] = [columns.get(f"{n}.{key}_x", 0.0), columns[column]]
+        summary[n] = entry
+    return summary
 
 
 def check_output_folder(out: Path, overwrite: bool) -> None:

@@ -11,12 +11,22 @@ velocity = [0.0, -0.01]          # m/s, or motion = [[t, vx, vy], ...] (linear b
 friction = 0.0                   # Coulomb coefficient >= 0, or "rough" (no slip)
 adhesion = 0.0                   # Pa: shear strength min(friction sigma_n + adhesion, adhesion_limit)
 contact = "nodes"                # or "penalty", experimental (docs/studies/contact-remedies.md)
+parts = [{ name = "tip", below = 0.0309 }, { name = "sleeve", below = 0.1646 }]  # optional
 ```
 
 A force-driven body gives ``mass`` (kg, the whole body: per metre in plane strain, the whole
 ring in axisymmetry) instead of ``velocity``/``motion``, with an optional ``force = [[t, fx,
 fy], ...]`` (N, linear between rows) and ``initial_velocity``: it moves under that force,
 gravity and the material's reaction (a maintained load, a free-falling penetrometer).
+
+``parts`` names pieces of the body's reaction by height: the contact's correction along a face
+goes to the first part whose ``below`` (m above the body's lowest point, in its own frame: the
+heights move with the body) is at or above the point of the face where it acts, and above the
+last ``below`` to ``rest``; a part ending at a vertex (a cone's shoulder) takes exactly the faces
+below it. The history then has
+``NAME.PART_force_y`` (and ``_x`` in plane strain) for each part and ``rest``, besides the
+``base``/``shaft`` split by face normal; each split sums to ``NAME.force_y``. E.g. a cone
+penetrometer: the cone below its shoulder is the tip, the 150 cm² friction sleeve above it.
 
 A rigid body cuts its region out of every body (no particle is created inside it), so a
 pre-embedded pile is one rigid body inside a soil layer. Its displacement is the integral of its
@@ -56,6 +66,15 @@ class RigidBodyHead(Section):
                       "no dots, commas or spaces, not the name of a grid face or wall")
 
 
+class RigidBodyPart(Section):
+    """One entry of a rigid body's ``parts``."""
+
+    name: str = Field(description="names the history columns BODY.NAME_force_x/y; no dots, commas or spaces, "
+                      "not base, shaft or rest")
+    below: float = Field(description="m: the part's upper end above the body's lowest point (in the body's "
+                         "own frame); > 0 and increasing along parts")
+
+
 class RigidBodyKeys(Section):
     """The keys of every rigid body after its region's."""
 
@@ -81,6 +100,11 @@ class RigidBodyKeys(Section):
                             "is the alpha-method of pile design")
     adhesion_limit: float | None = Field(None, description="Pa, > 0: the largest shear stress of the "
                                          "interface (none: unlimited)")
+    parts: list[RigidBodyPart] = Field(
+        default_factory=list, description="named parts of the reaction by height, [{ name, below }, ...]: "
+        "the contact force on a face goes to the first part whose below (m above the body's lowest point, "
+        "in its own frame) is at or above where it acts, above the last to rest; history columns "
+        "NAME.PART_force_y (and _x in plane strain) per part and rest")
 
 
 def rigid_body_class(region: type[Region]) -> type[Section]:

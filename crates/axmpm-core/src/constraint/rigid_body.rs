@@ -13,6 +13,7 @@
 //! friction = 0.0                 # Coulomb coefficient ≥ 0, or "rough" (no slip)
 //! adhesion = 0.0                 # Pa ≥ 0; adhesion_limit = a_lim (Pa > 0) optional ("Adhesion")
 //! contact = "nodes"              # or "penalty" ("Penalty contact" below)
+//! parts = [{ name = "tip", below = 0.0309 }]   # optional ("Reaction")
 //! ```
 //!
 //! The table is [`crate::config::RigidBodyConfig`]; [`RigidBody::from_config`] checks every
@@ -192,6 +193,21 @@
 //! (n_y < −1/√2: the **base** of a pile or footing) and the rest (the **shaft**: sides, top).
 //! With the penalty contact the impulse is minus the contact forces applied to the nodes × Δt,
 //! split by each particle's mean normal; the material's momentum changes by exactly that.
+//!
+//! **Named parts by height** (`parts`, optional): a list of `{ name, below }` with `below`
+//! increasing, heights in metres above the body's lowest point in its own frame (they move with
+//! the body). Each face's correction at a covered node (both faces at a corner) acts where that
+//! face is nearest the node, its foot; it goes to the first part whose `below` is at or above
+//! the foot's height (a point at a part's upper end is that part's, with an allowance of 10⁻⁹
+//! of the body's size for round-off), and above the last `below` to the part `rest`. So a part
+//! ending at a vertex (a cone's shoulder) takes exactly the faces below it. With the penalty
+//! contact a particle's force goes by the height of its centre. The split is by position, not
+//! by normal, because the faces that carry a penetrometer's tip resistance are not horizontal:
+//! a 60° cone's faces are 30° from vertical, and the normal split counts them as shaft. The
+//! foot, not the node's own height, because a node inside the body near the shoulder is
+//! corrected for the cone's face as well as the shaft's: by the node's height about 40 % of a
+//! smooth cone's force went to the shaft above the shoulder (R/h = 2). The parts sum to the
+//! body's total impulse.
 
 use super::{coulomb_contact, Constraint, Interface, NodalContext};
 pub use crate::config::Friction;
@@ -428,6 +444,32 @@ pub struct RigidBody {
     work: f64,
     /// Of that work, the part lost to slip at the interface, Σ_nodes j·(v_after − w).
     interface_dissipation: f64,
+    /// Named parts by height (module doc, "Reaction"): each part's upper end in the body's own
+    /// frame (m, increasing), the names of the parts and then `rest`, and the impulse of each
+    /// since the last [`RigidBody::take_named_parts`]. All empty when the body has no parts.
+    part_tops: Vec<f64>,
+    part_names: Vec<String>,
+    impulse_named: Vec<[f64; 2]>,
+}
+
+/// The part above a body's named parts (module doc, "Reaction").
+pub const REST: &str = "rest";
+
+/// Names a body's part may not take: the normal split's parts and `rest`, whose columns the
+/// history writes anyway.
+const RESERVED_PART_NAMES: [&str; 3] = ["base", "shaft", REST];
+
+/// Books an impulse at height `y` (a body's own frame) to the named part whose range holds it
+/// (`tops`: the parts' upper ends, each with its round-off allowance; a point at a part's
+/// upper end is that part's; `named`: their impulses, then `rest`'s), if there are any.
+#[inline]
+fn book_named(tops: &[f64], named: &mut [[f64; 2]], y: f64, impulse: [f64; 2]) {
+    if named.is_empty() {
+        return;
+    }
+    let k = tops.partition_point(|&top| y > top);
+    named[k][0] += impulse[0];
+    named[k][1] += impulse[1];
 }
 
 /// Newton iterations of a force-driven body's contact velocity at most
@@ -469,7 +511,36 @@ impl RigidBody {
             step_impulse: [0.0; 2],
             work: 0.0,
             interface_dissipation: 0.0,
+            part_tops: Vec::new(),
+            part_names: Vec::new(),
+            impulse_named: Vec::new(),
         }
+    }
+
+    /// Names the parts of the reaction by height (module doc, "Reaction"): `parts` as (name,
+    /// upper end in m above the body's lowest point), the ends increasing (checked by
+    /// [`RigidBody::from_config`]); above the last end, `rest`. No parts: no named split.
+    pub fn with_parts(mut self, parts: &[(String, f64)]) -> Self {
+        if parts.is_empty() {
+            return self;
+        }
+        let (lo, hi) = self.region.bounding_box();
+        // A vertex at a part's upper end given as the same sum in the scenario (tip + shoulder
+        // height) may differ from lowest + below by round-off: allow 10⁻⁹ of the body's size.
+        let allowance = 1e-9 * (hi[0] - lo[0]).max(hi[1] - lo[1]);
+        self.part_tops = parts.iter().map(|(_, below)| lo[1] + below + allowance).collect();
+        self.part_names = parts.iter().map(|(name, _)| name.clone()).chain(std::iter::once(REST.to_string())).collect();
+        self.impulse_named = vec![[0.0; 2]; self.part_names.len()];
+        self
+    }
+
+
+    /// Impulse of each named part since the last call (module doc, "Reaction"), in the order
+    /// of `parts` and then `rest`; reset by the call. Empty when the body has no parts.
+    pub fn take_named_parts(&mut self) -> Vec<(String, [f64; 2])> {
+        let taken = self.part_names.iter().cloned().zip(self.impulse_named.iter().copied()).collect();
+        self.impulse_named.iter_mut().for_each(|i| *i = [0.0; 2]);
+        taken
     }
 
     /// The body's motion over the step [t, t + dt]: (displacement at t, displacement at
@@ -566,7 +637,7 @@ impl RigidBody {
     }
 
     /// One pass of the nodal contact (module doc) for the body at `offset` at the end of the
-    /// step, moving with `w`: at each covered node with mass, `visit(m, before, after, steps)`
+    /// step, moving with `w`: at each covered node with mass, `visit(m, before, after, steps, local)`
     /// with the node's mass, its velocity before and after the correction and the correction
     /// face by face (normal, from, to); with `write`, `after` is stored in `velocity`.
     fn sweep(
@@ -576,7 +647,7 @@ impl RigidBody {
         offset: [f64; 2],
         w: [f64; 2],
         write: bool,
-        mut visit: impl FnMut(f64, [f64; 2], [f64; 2], &[([f64; 2], [f64; 2], [f64; 2]); 2]),
+        mut visit: impl FnMut(f64, [f64; 2], [f64; 2], &[([f64; 2], [f64; 2], [f64; 2]); 2], [f64; 2]),
     ) {
         let grid = context.grid;
         let h = grid.cell_size;
@@ -672,7 +743,7 @@ impl RigidBody {
                 if write {
                     velocity[node] = after;
                 }
-                visit(m, before, after, &steps);
+                visit(m, before, after, &steps, local);
             }
         }
     }
@@ -697,7 +768,7 @@ impl RigidBody {
         let mut w = w0;
         for _ in 0..CONTACT_ITERATIONS {
             let (mut impulse, mut k) = ([0.0; 2], [0.0; 3]);
-            self.sweep(context, velocity, offset, w, false, |m, before, after, _| {
+            self.sweep(context, velocity, offset, w, false, |m, before, after, _, _| {
                 let d = [before[0] - after[0], before[1] - after[1]];
                 let size = d[0] * d[0] + d[1] * d[1];
                 impulse[0] += m * d[0];
@@ -872,6 +943,7 @@ impl RigidBody {
             self.impulse[1] -= dt * total[1];
             self.step_impulse[0] -= dt * total[0];
             self.step_impulse[1] -= dt * total[1];
+            book_named(&self.part_tops, &mut self.impulse_named, c[1], [-dt * total[0], -dt * total[1]]);
         }
     }
 
@@ -944,7 +1016,10 @@ impl Constraint for RigidBody {
             }
         }
         let (mut impulse, mut base, mut shaft, mut dissipation) = ([0.0; 2], [0.0; 2], [0.0; 2], 0.0);
-        self.sweep(context, velocity, offset, w, true, |m, before, after, steps| {
+        // The named parts' impulses, booked in place (taken out for the sweep, which reads `self`).
+        let mut named = std::mem::take(&mut self.impulse_named);
+        let (tops, contact) = (&self.part_tops, &self.contact);
+        self.sweep(context, velocity, offset, w, true, |m, before, after, steps, local| {
             if !record {
                 return;
             }
@@ -953,11 +1028,18 @@ impl Constraint for RigidBody {
             // The slip left at the interface dissipates j·(v_after − w) ≥ 0 (module doc, "Energy").
             dissipation += m * ((before[0] - after[0]) * (after[0] - w[0]) + (before[1] - after[1]) * (after[1] - w[1]));
             for &(n, from, to) in steps {
+                let removed = [m * (from[0] - to[0]), m * (from[1] - to[1])];
                 let part = if faces_down(n) { &mut base } else { &mut shaft };
-                part[0] += m * (from[0] - to[0]);
-                part[1] += m * (from[1] - to[1]);
+                part[0] += removed[0];
+                part[1] += removed[1];
+                if !named.is_empty() && removed != [0.0, 0.0] {
+                    // By the height of the face's point nearest the node (module doc, "Reaction").
+                    let foot = contact.foot_on_face(local, n);
+                    book_named(tops, &mut named, foot[1], removed);
+                }
             }
         });
+        self.impulse_named = named;
         if record {
             for c in 0..2 {
                 self.impulse[c] += impulse[c];
@@ -1144,7 +1226,7 @@ impl RigidBody {
         if let Some(key) = table.keys().find(|k| !region_keys.contains(&k.as_str())) {
             return Err(format!(
                 "{context}.{key}: unknown key (a rigid body has name, velocity or motion (or mass, force and \
-                 initial_velocity), friction, adhesion, adhesion_limit, contact, experimental and its region's keys: {})",
+                 initial_velocity), friction, adhesion, adhesion_limit, contact, experimental, parts and its region's keys: {})",
                 region_keys.join(", ")
             ));
         }
@@ -1319,7 +1401,31 @@ fn finish(
             return Err(format!("{context}.adhesion_limit: must be a finite number > 0 Pa (got {limit})"));
         }
     }
-    let mut body = RigidBody::new(config.name.clone(), region, contact, kinematics, config.friction);
+    let mut parts: Vec<(String, f64)> = Vec::with_capacity(config.parts.len());
+    for (k, part) in config.parts.iter().enumerate() {
+        let key = format!("{context}.parts[{k}]");
+        let part_name = &part.name;
+        if part_name.is_empty() || part_name.contains(['.', ',']) || part_name.contains(char::is_whitespace) {
+            return Err(format!(
+                "{key}.name: must be a non-empty string without dots, commas or spaces (it names output columns; got {part_name:?})"
+            ));
+        }
+        if RESERVED_PART_NAMES.contains(&part_name.as_str()) || parts.iter().any(|(n, _)| n == part_name) {
+            return Err(format!(
+                "{key}.name: '{part_name}' is taken (parts are named once, and not {}: their columns are written anyway)",
+                RESERVED_PART_NAMES.join(", ")
+            ));
+        }
+        let below = part.below;
+        let floor = parts.last().map_or(0.0, |(_, b)| *b);
+        if !(below.is_finite() && below > floor) {
+            return Err(format!(
+                "{key}.below: must be a finite height > {floor} m (above the body's lowest point and the previous part's; got {below})"
+            ));
+        }
+        parts.push((part_name.clone(), below));
+    }
+    let mut body = RigidBody::new(config.name.clone(), region, contact, kinematics, config.friction).with_parts(&parts);
     body.enforcement = enforcement;
     body.adhesion = config.adhesion;
     body.adhesion_limit = config.adhesion_limit.unwrap_or(f64::INFINITY);
@@ -1515,6 +1621,22 @@ mod tests {
         assert!(e.starts_with("rigid_bodies[0].velocity:"), "{e}");
         let e = err(square_body(json!({"velocity": [0, 0], "friction": true})), false);
         assert!(e.starts_with("rigid_bodies[0].friction: must be a number >= 0"), "{e}");
+        // Named parts: names once, not those of the normal split or rest; heights > 0, increasing.
+        let parts = |p: Value| err(square_body(json!({"velocity": [0, 0], "parts": p})), false);
+        let e = parts(json!([{"name": "rest", "below": 0.1}]));
+        assert!(e.starts_with("rigid_bodies[0].parts[0].name: 'rest' is taken"), "{e}");
+        let e = parts(json!([{"name": "tip", "below": 0.1}, {"name": "base", "below": 0.2}]));
+        assert!(e.starts_with("rigid_bodies[0].parts[1].name"), "{e}");
+        let e = parts(json!([{"name": "tip", "below": 0.1}, {"name": "tip", "below": 0.2}]));
+        assert!(e.starts_with("rigid_bodies[0].parts[1].name: 'tip' is taken"), "{e}");
+        let e = parts(json!([{"name": "a b", "below": 0.1}]));
+        assert!(e.starts_with("rigid_bodies[0].parts[0].name: must be a non-empty string"), "{e}");
+        let e = parts(json!([{"name": "tip", "below": 0.0}]));
+        assert!(e.starts_with("rigid_bodies[0].parts[0].below: must be a finite height > 0 m"), "{e}");
+        let e = parts(json!([{"name": "tip", "below": 0.2}, {"name": "sleeve", "below": 0.2}]));
+        assert!(e.starts_with("rigid_bodies[0].parts[1].below: must be a finite height > 0.2 m"), "{e}");
+        let e = parts(json!([{"name": "tip", "above": 0.2}]));
+        assert!(e.starts_with("rigid_bodies[0].parts[0]") && e.contains("above"), "{e}");
     }
 
     /// The keys of a force-driven body: refused values name the key and the allowed range.
@@ -1745,6 +1867,80 @@ mod tests {
         assert!((v[base[1]][1] + 0.4).abs() < 1e-12 && v[base[1]][0] == 0.0, "{:?}", v[base[1]]);
     }
 
+    /// Named parts by height, on the plate and material of the test above (smooth, m = 2,
+    /// lowest point y = 0.5): with `tip` below 0.1 the whole base row (y = 0.5, height 0) goes
+    /// to the tip, the bottom-left corner's side correction included (its foot on the side face
+    /// is the corner): (1, 2) + (0, 2) + (0, 2) = (1, 6), where the normal split gives that
+    /// corner's x part to the shaft; the top-left node (1, 3) is corrected by the top and the
+    /// left faces with feet at its own place (height 0.25): (1, 0) to `rest` with a sleeve
+    /// below 0.24, to the sleeve with a sleeve below 0.25 (a part's upper end is its own).
+    /// Each split sums to the total.
+    #[test]
+    fn named_parts_take_the_reaction_of_the_nodes_at_their_height() {
+        let grid = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.25);
+        let n = grid.num_nodes();
+        let mut mass = vec![2.0; n];
+        mass[grid.node_index(2, 3)] = 0.0;
+        let context = NodalContext { grid: &grid, mass: &mass, time: 0.0, dt: 1e-13, axisymmetric: false };
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9;
+        for (sleeve_top, sleeve, rest) in [(0.24, [0.0, 0.0], [1.0, 0.0]), (0.25, [1.0, 0.0], [0.0, 0.0])] {
+            let parts = json!([{"name": "tip", "below": 0.1}, {"name": "sleeve", "below": sleeve_top}]);
+            let mut b = build(json!([square_body(json!({"velocity": [0.0, -1.0], "parts": parts}))]), false)
+                .unwrap()
+                .pop()
+                .unwrap();
+            let mut v = vec![[0.5, 0.0]; n];
+            b.apply(&context, &mut v, true);
+            let named = b.take_named_parts();
+            let names: Vec<&str> = named.iter().map(|(name, _)| name.as_str()).collect();
+            assert_eq!(names, ["tip", "sleeve", "rest"]);
+            assert!(close(named[0].1, [1.0, 6.0]), "tip {named:?}");
+            assert!(close(named[1].1, sleeve) && close(named[2].1, rest), "below {sleeve_top}: {named:?}");
+            let total = b.take_impulse();
+            let sum = named.iter().fold([0.0; 2], |a, (_, i)| [a[0] + i[0], a[1] + i[1]]);
+            assert!(close(sum, total), "{sum:?} vs {total:?}");
+            assert!(b.take_named_parts().iter().all(|(_, i)| *i == [0.0, 0.0]), "reset by the call");
+            // Not recorded: nothing booked.
+            b.apply(&context, &mut vec![[0.5, 0.0]; n], false);
+            assert!(b.take_named_parts().iter().all(|(_, i)| *i == [0.0, 0.0]));
+        }
+        // The round-off allowance is 10⁻⁹ of the body's size (0.5 m here: 5·10⁻¹⁰ m): the top
+        // row's feet (height 0.25) are the tip's when it ends 3·10⁻¹⁰ m below them, the rest's
+        // when it ends 7·10⁻¹⁰ m below.
+        for (gap, top_row_is_tip) in [(3e-10, true), (7e-10, false)] {
+            let parts = json!([{"name": "tip", "below": 0.25 - gap}]);
+            let mut b = build(json!([square_body(json!({"velocity": [0.0, -1.0], "parts": parts}))]), false)
+                .unwrap()
+                .pop()
+                .unwrap();
+            b.apply(&context, &mut vec![[0.5, 0.0]; n], true);
+            let named = b.take_named_parts();
+            let (tip, rest) = if top_row_is_tip { ([2.0, 6.0], [0.0, 0.0]) } else { ([1.0, 6.0], [1.0, 0.0]) };
+            assert!(close(named[0].1, tip) && close(named[1].1, rest), "gap {gap}: {named:?}");
+        }
+        // Each face's correction goes by its foot, not by the node's height: the plate's base
+        // 0.05 below the row j = 2, mass at the corner node (1, 2) only (0.05 above the base).
+        // Its left face (foot (0.25, 0.5), height 0.05) stops the rightward 0.5: (1, 0); then
+        // the base (foot (0.25, 0.45), height 0) the upward 1 relative to the plate: (0, 2).
+        // With the tip below 0.02 the base's share is the tip's and the side's the rest's (by
+        // the node's height both would be the rest's).
+        let low = json!({"name": "plate", "shape": "polygon", "vertices": [[0.25, 0.45], [0.75, 0.45], [0.75, 0.75], [0.25, 0.75]],
+                         "velocity": [0.0, -1.0], "parts": [{"name": "tip", "below": 0.02}]});
+        let mut b = build(json!([low]), false).unwrap().pop().unwrap();
+        let mut corner_mass = vec![0.0; n];
+        corner_mass[grid.node_index(1, 2)] = 2.0;
+        let corner = NodalContext { grid: &grid, mass: &corner_mass, time: 0.0, dt: 1e-13, axisymmetric: false };
+        let mut v = vec![[0.5, 0.0]; n];
+        b.apply(&corner, &mut v, true);
+        assert!(close(v[grid.node_index(1, 2)], [0.0, -1.0]), "{:?}", v[grid.node_index(1, 2)]);
+        let named = b.take_named_parts();
+        assert!(close(named[0].1, [0.0, 2.0]) && close(named[1].1, [1.0, 0.0]), "{named:?}");
+        // A body without parts has no named split.
+        let mut plain = build(json!([square_body(json!({"velocity": [0.0, -1.0]}))]), false).unwrap().pop().unwrap();
+        plain.apply(&context, &mut vec![[0.5, 0.0]; n], true);
+        assert!(plain.take_named_parts().is_empty());
+    }
+
     /// Nodes outside the body count as covered up to the reach: with the plate's base at
     /// y = 0.5 and the node row j = 1 at y = 0.25, a reach of 0.3 takes in row 1 under the base
     /// (normal −y), a reach of 0.2 leaves it free; nodes beside the plate stay free either way.
@@ -1806,6 +2002,22 @@ mod tests {
         assert!((base[0] - 0.625 * dt).abs() < 1e-15 && (base[1] - 1.5625 * dt).abs() < 1e-15, "{base:?}");
         assert_eq!(shaft, [0.0, 0.0]);
         assert!((b.take_impulse()[1] - 1.5625 * dt).abs() < 1e-15);
+        // Named parts go by the particle centre's height: y = 0.45, below the plate's lowest
+        // point, is the first part's; a particle centre 0.3 above it is the rest's.
+        let parts = json!([{"name": "tip", "below": 0.1}]);
+        let body = square_body(json!({"velocity": [0.0, -1.0], "friction": 0.4, "contact": "penalty",
+                                      "experimental": true, "parts": parts}));
+        let mut named = build(json!([body]), false).unwrap().pop().unwrap().with_penalty_stiffness(1000.0);
+        named.add_contact_forces(&penalty_context(&particles, &grid, &mass, dt), &mut vec![[0.0; 2]; grid.num_nodes()]);
+        let split = named.take_named_parts();
+        assert!((split[0].1[0] - 0.625 * dt).abs() < 1e-15 && (split[0].1[1] - 1.5625 * dt).abs() < 1e-15, "{split:?}");
+        assert_eq!(split[1], (REST.to_string(), [0.0, 0.0]));
+        let mut above = crate::particles::Particles::default();
+        above.push([0.5, 0.8], [0.3, -1.0], 2.0, 0.0156, [0.0625, 0.0625], [0.0; 4], 0);
+        named.add_contact_forces(&penalty_context(&above, &grid, &mass, dt), &mut vec![[0.0; 2]; grid.num_nodes()]);
+        let split = named.take_named_parts();
+        assert_eq!(split[0].1, [0.0, 0.0]);
+        assert!(split[1].1[1] < 0.0, "pressed down by the top face: {split:?}");
         // Rough: the tangential force stops the slip in the step, m |v_t| / Δt = 600 N.
         let body = square_body(json!({"velocity": [0.0, -1.0], "friction": "rough", "contact": "penalty", "experimental": true}));
         let mut rough = build(json!([body]), false).unwrap().pop().unwrap().with_penalty_stiffness(1000.0);

@@ -214,22 +214,7 @@ impl Polygon {
     /// Returns (its length, ∫ x₀ ds over it): the area per metre, and per radian in axisymmetry.
     pub fn face_band(&self, x: [f64; 2], normal: [f64; 2], band: [f64; 2], min_x: f64) -> (f64, f64) {
         let n = self.vertices.len();
-        let mut best: Option<(bool, f64, usize)> = None;
-        for i in 0..n {
-            let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
-            let e = sub(b, a);
-            let t = (dot(sub(x, a), e) / dot(e, e)).clamp(0.0, 1.0);
-            let d = sub(x, [a[0] + t * e[0], a[1] + t * e[1]]);
-            let key = (dot(self.normals[i], normal) > 1.0 - 1e-9, dot(d, d));
-            let better = match best {
-                None => true,
-                Some((matches, distance, _)) => (key.0 && !matches) || (key.0 == matches && key.1 < distance),
-            };
-            if better {
-                best = Some((key.0, key.1, i));
-            }
-        }
-        let Some((_, _, i)) = best else { return (0.0, 0.0) };
+        let Some((i, _)) = self.face_with_normal(x, normal) else { return (0.0, 0.0) };
         let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
         let e = sub(b, a);
         let length = dot(e, e).sqrt();
@@ -252,6 +237,36 @@ impl Polygon {
         }
         let mid = a[0] + 0.5 * (lo + hi) * u[0];
         (hi - lo, (hi - lo) * mid)
+    }
+
+    /// The point of a face nearest to `x`, on the edge with outward normal `normal` nearest to
+    /// `x` (the nearest edge when none has it): where a contact correction along `normal` at `x`
+    /// acts on the body.
+    pub fn foot_on_face(&self, x: [f64; 2], normal: [f64; 2]) -> [f64; 2] {
+        self.face_with_normal(x, normal).map_or(x, |(_, foot)| foot)
+    }
+
+    /// The edge with outward normal `normal` nearest to `x` (the nearest edge when none has it)
+    /// and the point of it nearest to `x`; `None` for a polygon without edges.
+    fn face_with_normal(&self, x: [f64; 2], normal: [f64; 2]) -> Option<(usize, [f64; 2])> {
+        let n = self.vertices.len();
+        let mut best: Option<(bool, f64, usize, [f64; 2])> = None;
+        for i in 0..n {
+            let (a, b) = (self.vertices[i], self.vertices[(i + 1) % n]);
+            let e = sub(b, a);
+            let t = (dot(sub(x, a), e) / dot(e, e)).clamp(0.0, 1.0);
+            let foot = [a[0] + t * e[0], a[1] + t * e[1]];
+            let d = sub(x, foot);
+            let key = (dot(self.normals[i], normal) > 1.0 - 1e-9, dot(d, d));
+            let better = match best {
+                None => true,
+                Some((matches, distance, _, _)) => (key.0 && !matches) || (key.0 == matches && key.1 < distance),
+            };
+            if better {
+                best = Some((key.0, key.1, i, foot));
+            }
+        }
+        best.map(|(_, _, i, foot)| (i, foot))
     }
 
     /// Crossing-number test (even–odd rule), boundary not included reliably.
@@ -542,6 +557,26 @@ mod tests {
         assert_eq!(second, Some([1.0, 0.0]));
         let (_, n, second) = p.nearest_faces([0.9, 0.0005], 1.5e-3);
         assert_eq!((n, second), ([0.0, -1.0], None));
+    }
+
+    /// The foot of a point on the nearest edge with a given normal, clamped to the edge: on the
+    /// L-shape the two upward faces y = 2 (x in [0, 1]) and y = 1 (x in [1, 2]) are chosen by
+    /// distance; a normal no edge has falls back to the nearest edge.
+    #[test]
+    fn foot_on_face_by_hand() {
+        let p = ell();
+        let close = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12;
+        let cases = [
+            ([1.8, 1.5], [0.0, 1.0], [1.8, 1.0]),  // y = 1 face 0.5 away, y = 2 face 0.94
+            ([0.5, 2.3], [0.0, 1.0], [0.5, 2.0]),
+            ([0.9, 0.8], [0.0, -1.0], [0.9, 0.0]), // inside: the base, though the corner (1, 1) is nearer
+            ([2.5, -0.5], [0.0, -1.0], [2.0, 0.0]), // clamped to the base's end
+            ([2.3, 1.4], [0.6, 0.8], [2.0, 1.0]),  // no such normal: the nearest edge (the corner)
+        ];
+        for (x, normal, want) in cases {
+            let got = p.foot_on_face(x, normal);
+            assert!(close(got, want), "{x:?} {normal:?}: {got:?}");
+        }
     }
 
     #[test]

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ...report import DASH, fmt, pct
+from ...report import DASH, checks_table, fmt, pct
 from .. import RunSpec, register
 from .scenario import EXACT, MESHES, SETTLEMENT_WINDOW, bearing_capacity_factor, footing_scenario, load_settlement
 
@@ -185,9 +185,6 @@ class Footing:
                            "*|N_c − exact|/exact against B/h.*\n")
             except Exception as exc:  # noqa: BLE001 - a report without figures is still a report
                 figures = f"(figures not written: {type(exc).__name__}: {exc})\n"
-        lines = ["| check | result | detail |", "|---|---|---|"]
-        lines += [f"| {c['name']} | {'pass' if c['passed'] else ('**FAIL**' if c.get('required', True) else 'missed (aim)')} "
-                  f"| {c.get('detail', '')} |" for c in checks]
         return f"""# axmpm verification: rigid footing on Tresca soil
 
 Rigid footing pushed into a weightless Tresca layer (s_u = 10 kPa, E = 3 MPa, ν = 0.49 with cell
@@ -210,7 +207,7 @@ of the footing, corners with both faces).
 
 ## Checks
 
-{chr(10).join(lines)}
+{checks_table(checks)}
 
 ## Figures
 
