@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 use axmpm_core::config::*;
+use axmpm_core::Simulation;
 use std::collections::BTreeMap;
 
 pub fn material(model: &str, density: f64, e: f64, nu: f64) -> MaterialConfig {
@@ -80,4 +81,39 @@ pub fn clay_layer() -> Config {
     cfg.boundaries.bottom = BoundaryCondition::FIXED;
     cfg.simulation.flip_fraction = 0.99;
     cfg
+}
+
+/// The in-situ stress of the cone penetration set-up, Pa (compression).
+pub const S_V0: f64 = 66e3;
+
+/// Tresca clay (s_u = 18 kPa, E = 5.4 MPa, ν = 0.49) of the given density.
+pub fn tresca(density: f64) -> MaterialConfig {
+    let mut m = material("mohr_coulomb", density, 5.4e6, 0.49);
+    m.set("friction_angle", 0.0).set("cohesion", 18e3);
+    m
+}
+
+/// A weightless Tresca layer 0.5 m × 0.5 m at σ_v = σ_h = −66 kPa (under a 66 kPa surcharge
+/// `q` when `surcharge`), rollers on its sides and base, h = 0.05 m, a fixed Δt = 5e-5 s.
+pub fn in_situ_layer(formulation: FormulationKind, surcharge: bool) -> Config {
+    let mut cfg = block(formulation, ShapeFunctionKind::Cpgimp, [0.0, 0.0], [0.0, 0.0]);
+    cfg.simulation.time_step = 5e-5;
+    cfg.simulation.volumetric_averaging = VolumetricAveraging::Cell;
+    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.5, 0.75], cell_size: 0.05, follow: None, experimental: false };
+    cfg.materials = BTreeMap::from([("clay".to_string(), tresca(1800.0))]);
+    let mut body = BodyConfig::rectangle("clay", [0.0, 0.0], [0.5, 0.5]);
+    body.initial_stress = InitialStress::Given([-S_V0, -S_V0, -S_V0, 0.0]);
+    cfg.bodies = vec![body];
+    cfg.boundaries.left = BoundaryCondition::ROLLER;
+    cfg.boundaries.right = BoundaryCondition::ROLLER;
+    cfg.boundaries.bottom = BoundaryCondition::ROLLER;
+    if surcharge {
+        cfg.surcharges = vec![SurchargeConfig { name: Some("q".into()), pressure: S_V0, level: 0.5, range: None }];
+    }
+    cfg
+}
+
+/// Largest |σ_ii + 66 kPa| / 66 kPa over the particles and the three normal components.
+pub fn in_situ_stress_error(sim: &Simulation) -> f64 {
+    sim.particles().stress.iter().flat_map(|s| s[..3].iter().map(|c| (c + S_V0).abs() / S_V0)).fold(0.0, f64::max)
 }

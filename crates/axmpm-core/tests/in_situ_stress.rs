@@ -8,46 +8,13 @@ use axmpm_core::simulation::Simulation;
 use common::*;
 use std::collections::BTreeMap;
 
-const S_V0: f64 = 66e3;
-
-fn tresca(density: f64) -> MaterialConfig {
-    let mut m = material("mohr_coulomb", density, 5.4e6, 0.49);
-    m.set("friction_angle", 0.0).set("cohesion", 18e3);
-    m
-}
-
-/// A weightless Tresca layer 0.5 m × 0.5 m at σ_v = σ_h = −66 kPa under a 66 kPa surcharge,
-/// rollers on its sides and base, a fixed Δt.
-fn layer(formulation: FormulationKind, surcharge: bool) -> Config {
-    let mut cfg = block(formulation, ShapeFunctionKind::Cpgimp, [0.0, 0.0], [0.0, 0.0]);
-    cfg.simulation.time_step = 5e-5;
-    cfg.simulation.volumetric_averaging = VolumetricAveraging::Cell;
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.5, 0.75], cell_size: 0.05, follow: None, experimental: false };
-    cfg.materials = BTreeMap::from([("clay".to_string(), tresca(1800.0))]);
-    let mut body = BodyConfig::rectangle("clay", [0.0, 0.0], [0.5, 0.5]);
-    body.initial_stress = InitialStress::Given([-S_V0, -S_V0, -S_V0, 0.0]);
-    cfg.bodies = vec![body];
-    cfg.boundaries.left = BoundaryCondition::ROLLER;
-    cfg.boundaries.right = BoundaryCondition::ROLLER;
-    cfg.boundaries.bottom = BoundaryCondition::ROLLER;
-    if surcharge {
-        cfg.surcharges = vec![SurchargeConfig { name: Some("q".into()), pressure: S_V0, level: 0.5, range: None }];
-    }
-    cfg
-}
-
-/// Largest |σ_ii + 66 kPa| / 66 kPa over the particles and the three normal components.
-fn stress_error(sim: &Simulation) -> f64 {
-    sim.particles().stress.iter().flat_map(|s| s[..3].iter().map(|c| (c + S_V0).abs() / S_V0)).fold(0.0, f64::max)
-}
-
 #[test]
 fn a_surcharge_holds_a_weightless_layer_at_its_in_situ_stress() {
     for formulation in ALL_FORMULATIONS {
-        let mut sim = Simulation::new(layer(formulation, true), 1).unwrap();
-        assert_eq!(stress_error(&sim), 0.0);
+        let mut sim = Simulation::new(in_situ_layer(formulation, true), 1).unwrap();
+        assert_eq!(in_situ_stress_error(&sim), 0.0);
         sim.advance(1.0, 1000).unwrap();
-        let error = stress_error(&sim);
+        let error = in_situ_stress_error(&sim);
         assert!(error < 1e-10, "{formulation:?}: {error}");
         // The force it applies: −q × the loaded width (× 2π r̄ for the ring: −q π R²).
         let area = if formulation == FormulationKind::Axisymmetric { std::f64::consts::PI * 0.25 } else { 0.5 };
@@ -56,15 +23,15 @@ fn a_surcharge_holds_a_weightless_layer_at_its_in_situ_stress() {
         assert_eq!(force[0], 0.0);
         assert!((force[1] / (-S_V0 * area) - 1.0).abs() < 1e-12, "{formulation:?}: {force:?}");
         // Without it the top unloads: the check above can fail.
-        let mut free = Simulation::new(layer(formulation, false), 1).unwrap();
+        let mut free = Simulation::new(in_situ_layer(formulation, false), 1).unwrap();
         free.advance(1.0, 1000).unwrap();
-        assert!(stress_error(&free) > 0.05, "{formulation:?}");
+        assert!(in_situ_stress_error(&free) > 0.05, "{formulation:?}");
     }
 }
 
 #[test]
 fn the_surcharge_ramps_in_with_gravity() {
-    let mut cfg = layer(FormulationKind::PlaneStrain, true);
+    let mut cfg = in_situ_layer(FormulationKind::PlaneStrain, true);
     cfg.simulation.gravity_ramp_time = 0.01;
     let mut sim = Simulation::new(cfg, 1).unwrap();
     sim.advance(0.0025, u64::MAX).unwrap();
@@ -117,7 +84,7 @@ fn bad_surcharges_and_geostatic_without_gravity_are_refused_naming_the_key() {
         (|c| c.bodies[0].initial_stress = InitialStress::Geostatic, "bodies[0].initial_stress: \"geostatic\" needs gravity"),
     ];
     for (change, key) in cases {
-        let mut cfg = layer(FormulationKind::PlaneStrain, true);
+        let mut cfg = in_situ_layer(FormulationKind::PlaneStrain, true);
         change(&mut cfg);
         let err = Simulation::new(cfg, 1).err().expect(key);
         assert!(err.contains(key), "{key}: {err}");

@@ -7,9 +7,6 @@ use axmpm_core::config::*;
 use axmpm_core::Simulation;
 use common::*;
 use serde_json::json;
-use std::collections::BTreeMap;
-
-const S_V0: f64 = 66e3;
 
 fn rigid(name: &str, min: [f64; 2], max: [f64; 2], motion: serde_json::Value) -> RigidBodyConfig {
     serde_json::from_value(json!({"name": name, "shape": "rectangle", "min": min, "max": max, "motion": motion})).unwrap()
@@ -19,32 +16,14 @@ fn rigid(name: &str, min: [f64; 2], max: [f64; 2], motion: serde_json::Value) ->
 /// its sides and base, h = 0.05 m, and a rigid plate above it moving down at `speed` (never
 /// reaching it within `end` s), followed by the grid when `follow`.
 fn layer_under_a_moving_plate(formulation: FormulationKind, follow: bool, speed: f64, end: f64) -> Config {
-    let mut cfg = block(formulation, ShapeFunctionKind::Cpgimp, [0.0, 0.0], [0.0, 0.0]);
-    cfg.simulation.time_step = 5e-5;
+    let mut cfg = in_situ_layer(formulation, true);
     cfg.simulation.end_time = end;
-    cfg.simulation.volumetric_averaging = VolumetricAveraging::Cell;
-    cfg.grid = GridConfig { origin: [0.0, 0.0], extent: [0.5, 0.75], cell_size: 0.05, follow: None, experimental: false };
     if follow {
         cfg.grid.follow = Some("plate".into());
         cfg.grid.experimental = true;
     }
-    let mut clay = material("mohr_coulomb", 1800.0, 5.4e6, 0.49);
-    clay.set("friction_angle", 0.0).set("cohesion", 18e3);
-    cfg.materials = BTreeMap::from([("clay".to_string(), clay)]);
-    let mut body = BodyConfig::rectangle("clay", [0.0, 0.0], [0.5, 0.5]);
-    body.initial_stress = InitialStress::Given([-S_V0, -S_V0, -S_V0, 0.0]);
-    cfg.bodies = vec![body];
-    cfg.boundaries.left = BoundaryCondition::ROLLER;
-    cfg.boundaries.right = BoundaryCondition::ROLLER;
-    cfg.boundaries.bottom = BoundaryCondition::ROLLER;
-    cfg.surcharges = vec![SurchargeConfig { name: None, pressure: S_V0, level: 0.5, range: None }];
     cfg.rigid_bodies = vec![rigid("plate", [0.0, 0.66], [0.1, 0.7], json!([[0.0, 0.0, -speed]]))];
     cfg
-}
-
-/// Largest |σ_ii + 66 kPa| / 66 kPa over the particles and the three normal components.
-fn stress_error(sim: &Simulation) -> f64 {
-    sim.particles().stress.iter().flat_map(|s| s[..3].iter().map(|c| (c + S_V0).abs() / S_V0)).fold(0.0, f64::max)
 }
 
 /// The grid's origin is y₀ + u_y − h ⌈u_y/h⌉ (u_y the followed body's displacement): the rows
@@ -83,7 +62,7 @@ fn a_layer_at_rest_stays_at_rest_on_a_moving_grid() {
     for formulation in ALL_FORMULATIONS {
         let mut sim = Simulation::new(layer_under_a_moving_plate(formulation, true, 1.5, 0.05), 1).unwrap();
         sim.advance(0.05, u64::MAX).unwrap();
-        let error = stress_error(&sim);
+        let error = in_situ_stress_error(&sim);
         assert!(error < 0.01, "{formulation:?}: stress error {error}");
         let drift = sim.particles().position.iter().zip(&sim.particles().initial_position)
             .map(|(x, x0)| (x[1] - x0[1]).abs()).fold(0.0, f64::max);
