@@ -18,6 +18,7 @@ from typing import Any
 import tomli_w
 from pydantic import Field, TypeAdapter, ValidationError, model_validator
 
+from ..engine import core
 from ..errors import ScenarioError
 from .bodies import GridFrame, overlaps
 from .boundaries import Boundaries, Wall
@@ -286,11 +287,9 @@ def _follow_errors(
     rigid_bodies: list[Any | None] | None,
 ) -> list[tuple[str, str]]:
     """``grid.follow``: a rigid body's name, and nothing tied to fixed node rows."""
-    from .. import _core
-
     errors: list[tuple[str, str]] = []
     if not experimental:
-        errors.append(("grid.follow", _core.FOLLOW_IS_EXPERIMENTAL))
+        errors.append(("grid.follow", core().FOLLOW_IS_EXPERIMENTAL))
     names = [b.name for b in rigid_bodies or [] if b is not None]
     if rigid_bodies is not None and None not in rigid_bodies and follow not in names:
         errors.append(("grid.follow", f"must name a rigid body ({', '.join(map(repr, names)) or 'there is none'}) "
