@@ -153,3 +153,19 @@ def test_footing_largest_load_step_reads_the_curve_after_the_ramp() -> None:
     nc = np.array([1.0, 4.0, 4.1, 4.9, 4.95])  # the jump 1.0 → 4.0 lies in the ramp, 4.1 → 4.9 after it
     assert largest_load_step(settlement, nc) == pytest.approx(0.8)
     assert largest_load_step(settlement[:2], nc[:2]) is None
+
+
+def test_a_report_without_figures_is_still_a_report() -> None:
+    from axmpm.report import figures_section
+
+    class Results(list):
+        context: dict = {}
+
+    def broken() -> str:
+        raise ValueError("no display")
+
+    assert figures_section(Results(), lambda: "![f](f.png)\n") == "![f](f.png)\n"
+    assert figures_section(Results(), broken) == "(figures not written: ValueError: no display)\n"
+    off = Results()
+    off.context = {"figures": False}
+    assert figures_section(off, broken) == ""

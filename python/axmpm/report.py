@@ -1,11 +1,11 @@
-"""Number formatting shared by the Markdown reports and terminal tables."""
+"""Number formatting and pieces shared by the Markdown reports and terminal tables."""
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, Callable
 
-__all__ = ["DASH", "number", "pct", "fmt", "checks_table"]
+__all__ = ["DASH", "number", "pct", "fmt", "checks_table", "figures_section"]
 
 #: What a table cell shows for a missing value.
 DASH = "—"
@@ -45,3 +45,15 @@ def checks_table(checks: list[dict[str, Any]]) -> str:
         result = "pass" if c["passed"] else ("**FAIL**" if c.get("required", True) else "missed (aim)")
         lines.append(f"| {c['name']} | {result} | {c.get('detail', '')} |")
     return "\n".join(lines)
+
+
+def figures_section(results: Any, draw: Callable[[], str]) -> str:
+    """A report's figures: ``draw()``, which plots them and returns their Markdown, unless the
+    results' ``context`` turns figures off (``""``). A report without figures is still a report:
+    a plotting error is written in their place."""
+    if not getattr(results, "context", {}).get("figures", True):
+        return ""
+    try:
+        return draw()
+    except Exception as exc:  # noqa: BLE001 - a report without figures is still a report
+        return f"(figures not written: {type(exc).__name__}: {exc})\n"

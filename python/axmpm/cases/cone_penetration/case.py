@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ...report import checks_table, fmt, pct
+from ...report import checks_table, figures_section, fmt, pct
 from .. import RunSpec, register
 from .scenario import (DIAMETER, MESHES, PUSH, RADIUS, RIGIDITY_INDICES, ROUGHNESS, SLEEVE_AREA, WINDOW, cone_scenario,
                        domain,
@@ -175,25 +175,25 @@ class ConePenetration:
     def report(self, results: list[dict[str, Any]], out: Path) -> str:
         context = getattr(results, "context", {})
         checks = context.get("checks") or self.checks(results)
-        figures = ""
-        if context.get("figures", True):
-            try:
-                figure_dir = Path(out) / "figures"
-                plot_depth(results, Path(out), figure_dir / "cone_penetration_depth.png")
-                plot_factor(results, figure_dir / "cone_penetration_factor.png")
-                shown = plot_soil(results, Path(out), figure_dir / "cone_penetration_soil.png")
-                figures = ("![N_c against depth](figures/cone_penetration_depth.png)\n\n"
-                           "*N_c = (q_c − σ_v0)/s_u against the tip's depth (q_c: the tip's force over πR², the mean "
-                           "over each 0.05R of travel); shaded: the averaging window.*\n\n"
-                           "![N_c against ln I_r](figures/cone_penetration_factor.png)\n\n"
-                           "*Steady N_c against ln I_r at the finest mesh, with Lu et al. (2004) and Teh & Houlsby "
-                           "(1991).*\n\n")
-                if shown:
-                    figures += ("![deformed soil](figures/cone_penetration_soil.png)\n\n"
-                                f"*The soil around the cone at the end of run {shown}: particles coloured by the "
-                                "band of their initial depth (one band per cone radius).*\n")
-            except Exception as exc:  # noqa: BLE001 - a report without figures is still a report
-                figures = f"(figures not written: {type(exc).__name__}: {exc})\n"
+
+        def draw() -> str:
+            figure_dir = Path(out) / "figures"
+            plot_depth(results, Path(out), figure_dir / "cone_penetration_depth.png")
+            plot_factor(results, figure_dir / "cone_penetration_factor.png")
+            shown = plot_soil(results, Path(out), figure_dir / "cone_penetration_soil.png")
+            figures = ("![N_c against depth](figures/cone_penetration_depth.png)\n\n"
+                       "*N_c = (q_c − σ_v0)/s_u against the tip's depth (q_c: the tip's force over πR², the mean "
+                       "over each 0.05R of travel); shaded: the averaging window.*\n\n"
+                       "![N_c against ln I_r](figures/cone_penetration_factor.png)\n\n"
+                       "*Steady N_c against ln I_r at the finest mesh, with Lu et al. (2004) and Teh & Houlsby "
+                       "(1991).*\n\n")
+            if shown:
+                figures += ("![deformed soil](figures/cone_penetration_soil.png)\n\n"
+                            f"*The soil around the cone at the end of run {shown}: particles coloured by the "
+                            "band of their initial depth (one band per cone radius).*\n")
+            return figures
+
+        figures = figures_section(results, draw)
         return f"""# axmpm verification: cone penetration in undrained clay
 
 A standard cone (R = 17.85 mm, 60° apex, a shaft of radius R behind it) pushed into weightless

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from ...report import DASH, checks_table, fmt, pct
+from ...report import DASH, checks_table, figures_section, fmt, pct
 from .. import RunSpec, register
 from .scenario import EXACT, MESHES, SETTLEMENT_WINDOW, bearing_capacity_factor, footing_scenario, load_settlement
 
@@ -173,18 +173,17 @@ class Footing:
     def report(self, results: list[dict[str, Any]], out: Path) -> str:
         context = getattr(results, "context", {})
         checks = context.get("checks") or self.checks(results)
-        figures = ""
-        if context.get("figures", True):
-            try:
-                plot_load_settlement(results, Path(out), Path(out) / "figures" / "footing_load_settlement.png")
-                plot_convergence(results, Path(out) / "figures" / "footing_convergence.png")
-                figures = ("![load-settlement](figures/footing_load_settlement.png)\n\n"
-                           "*q/s_u against δ/B (q = footing force / footing area; the mean force over each "
-                           "0.001B of settlement). Dashed: exact N_c; shaded: the averaging window 0.04B–0.06B.*\n\n"
-                           "![convergence](figures/footing_convergence.png)\n\n"
-                           "*|N_c − exact|/exact against B/h.*\n")
-            except Exception as exc:  # noqa: BLE001 - a report without figures is still a report
-                figures = f"(figures not written: {type(exc).__name__}: {exc})\n"
+
+        def draw() -> str:
+            plot_load_settlement(results, Path(out), Path(out) / "figures" / "footing_load_settlement.png")
+            plot_convergence(results, Path(out) / "figures" / "footing_convergence.png")
+            return ("![load-settlement](figures/footing_load_settlement.png)\n\n"
+                    "*q/s_u against δ/B (q = footing force / footing area; the mean force over each "
+                    "0.001B of settlement). Dashed: exact N_c; shaded: the averaging window 0.04B–0.06B.*\n\n"
+                    "![convergence](figures/footing_convergence.png)\n\n"
+                    "*|N_c − exact|/exact against B/h.*\n")
+
+        figures = figures_section(results, draw)
         return f"""# axmpm verification: rigid footing on Tresca soil
 
 Rigid footing pushed into a weightless Tresca layer (s_u = 10 kPa, E = 3 MPa, ν = 0.49 with cell
