@@ -319,7 +319,7 @@ impl Simulation {
             ),
             None => None,
         };
-        let water = solver::saturated::WaterState::new(&config, &step_grid, &particles);
+        let water = solver::saturated::WaterState::new(&config, &step_grid, &particles, &constraints);
         let surcharge_totals = match s.formulation {
             FormulationKind::PlaneStrain => crate::setup::surcharge_forces::<PlaneStrain>(&config, &particles),
             FormulationKind::Axisymmetric => crate::setup::surcharge_forces::<Axisymmetric>(&config, &particles),

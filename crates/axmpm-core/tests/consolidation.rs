@@ -292,6 +292,7 @@ fn the_loading_plate_carries_the_whole_load_with_a_uniform_settlement() {
     // stress varies along x, yet every horizontal section carries the plate's whole load: the
     // mean total vertical stress σ′_yy − p of the particles is −LOAD (0.5 %), and the nodes under
     // the plate moved down together (the surface's settlement the same along x to 1e-3 of it).
+    // The base reports that load, skeleton and water (below).
     let (a, b, cells) = (1.0, 0.5, 10);
     let h = a / cells as f64;
     let k = 1e-4;
@@ -312,7 +313,17 @@ fn the_loading_plate_carries_the_whole_load_with_a_uniform_settlement() {
     cfg.walls = vec![];
     let mut sim = Simulation::new(cfg, 1).unwrap();
     // c t/a² = 0.1 (c = k/(γ_w (1/E_oed + n/K_w)), ν = 0 so E_oed = E).
-    sim.advance(0.1 * a * a / consolidation_coefficient(k), u64::MAX).unwrap();
+    let time_scale = a * a / consolidation_coefficient(k);
+    // The base (impermeable) carries the plate's whole load once the damping has settled the
+    // ringing, R_y = −q a within 1 %, while the water still carries most of the load's mean
+    // pressure (c t/a² = 0.01 … 0.05, p̄ ≈ 0.45 q) and as it drains (0.05 … 0.1).
+    sim.advance(0.01 * time_scale, u64::MAX).unwrap();
+    for window in [[0.01, 0.05], [0.05, 0.1]] {
+        let (base, inertia, pressure) = mean_reactions(&mut sim, (window[1] - window[0]) * time_scale, &["bottom"]);
+        println!("c t/a² {window:?}: base R_y/(q a) {:.5}, dP/dt/(q a) {:.5}, p̄/q {:.4}", base[0][1] / LOAD, inertia / LOAD, pressure / LOAD);
+        assert!((base[0][1] / (LOAD * a) + 1.0).abs() < 0.01, "c t/a² {window:?}: {:?}", base[0]);
+        assert!(pressure > 0.3 * LOAD, "{pressure}");
+    }
     let p = sim.particles();
     let mean = (0..p.len()).map(|i| p.stress[i][1] - p.pore_pressure[i]).sum::<f64>() / p.len() as f64;
     // The surface's settlement above each column of particles, extrapolated linearly to y = b
@@ -345,7 +356,9 @@ fn a_prescribed_pressure_at_the_base_drives_a_steady_upward_seepage() {
     // p̄ = LOAD/2 instead of impermeable, the top drained at 0: once the load's excess pressure
     // has diffused (T_v = 1.5: the slowest mode exp(−π² T_v) is 4e-7), the pressure is linear,
     // p̄ (1 − y/H), within 1 % of p̄ at the cell centres, and the water rises at Darcy's rate,
-    // n (w − v) = k p̄ /(γ_w H), within 1 %.
+    // n (w − v) = k p̄ /(γ_w H), within 1 %. The base, drained at p̄, carries the effective
+    // stress alone, R_y = −(q − p̄) A within 1 %: the reservoir's pressure on the mixture
+    // (the face's boundary term) balances the pore pressure's share of the total stress.
     let k = 1e-3;
     let cells = 10;
     let h = HEIGHT / cells as f64;
@@ -364,8 +377,100 @@ fn a_prescribed_pressure_at_the_base_drives_a_steady_upward_seepage() {
             .fold(0.0, f64::max);
         let flux = (0..p.len()).map(|i| p.porosity[i] * (p.water_velocity[i][1] - p.velocity[i][1])).sum::<f64>() / p.len() as f64;
         let darcy = k * base / (RHO_W * STANDARD_GRAVITY * HEIGHT);
-        println!("{formulation:?}: max |Δp|/p̄ {worst:.2e}, flux {flux:.5e} vs Darcy {darcy:.5e}");
+        drop(p);
+        let area = match formulation {
+            FormulationKind::PlaneStrain => h,
+            FormulationKind::Axisymmetric => std::f64::consts::PI * ((1.0 + h) * (1.0 + h) - 1.0),
+        };
+        let (r, ..) = mean_reactions(&mut sim, 0.1 * HEIGHT * HEIGHT / consolidation_coefficient(k), &["bottom"]);
+        let effective = -(LOAD - base) * area;
+        println!("{formulation:?}: max |Δp|/p̄ {worst:.2e}, flux {flux:.5e} vs Darcy {darcy:.5e}, base R_y/(−(q − p̄) A) {:.5}", r[0][1] / effective);
         assert!(worst < 0.01, "{formulation:?}: {worst}");
         assert!((flux / darcy - 1.0).abs() < 0.01, "{formulation:?}: {flux} vs {darcy}");
+        assert!((r[0][1] / effective - 1.0).abs() < 0.01, "{formulation:?}: {} vs {effective}", r[0][1]);
     }
 }
+
+/// The vertical momentum of the mixture, Σ m v_y + Σ n ρ_w V w_y over the particles (× the
+/// formulation's total factor: the whole body's).
+fn mixture_momentum(sim: &Simulation) -> f64 {
+    let p = sim.particles();
+    let solid: f64 = (0..p.len()).map(|i| p.mass[i] * p.velocity[i][1]).sum();
+    let water: f64 = (0..p.len()).map(|i| p.porosity[i] * RHO_W * p.volume[i] * p.water_velocity[i][1]).sum();
+    (solid + water) * sim.total_factor()
+}
+
+/// Over the next `duration`, step by step: the mean reactions of `names` (N, whole body), the
+/// rate of change of the column's vertical mixture momentum, and the time-averaged mean pore
+/// pressure of the particles.
+fn mean_reactions(sim: &mut Simulation, duration: f64, names: &[&str]) -> (Vec<[f64; 2]>, f64, f64) {
+    sim.reactions();
+    let (start, before) = (sim.time(), mixture_momentum(sim));
+    let mut pressure_integral = 0.0;
+    while sim.time() < start + duration {
+        let t = sim.time();
+        let p0 = mean_pressure(sim);
+        sim.advance(f64::INFINITY, 1).unwrap();
+        pressure_integral += 0.5 * (p0 + mean_pressure(sim)) * (sim.time() - t);
+    }
+    let elapsed = sim.time() - start;
+    let all = sim.reactions();
+    let picked = names.iter().map(|n| all.iter().find(|(name, _)| name == n).unwrap().1).collect();
+    (picked, (mixture_momentum(sim) - before) / elapsed, pressure_integral / elapsed)
+}
+
+#[test]
+fn impermeable_faces_and_walls_report_the_total_force_solid_and_water() {
+    // The Terzaghi column (base and sides rollers and impermeable, LOAD on the drained top),
+    // whole-body forces. Vertical equilibrium of the column: the base's reaction R_y (the
+    // force the material exerts on it) balances the load and the mixture's inertia,
+    // R_y = −q A − dP/dt, within 1 % of q A, in the undrained state, where the water carries
+    // nearly all of the load (k = 1e-9: the water locked to the skeleton; k = 1e-3 at
+    // T_v ≤ 0.01: the water moves through the skeleton and the base holds it back). The side
+    // faces carry the pore pressure alone (ν = 0: σ′_xx = 0): R_x = ±p̄ H r, p̄ the particles'
+    // mean pressure over the same time, r the face's radius × 2π in axisymmetry (1 per metre
+    // in plane strain), − on the inner face; within 1 %. Drained (k = 1e-3, T_v = 1.5 … 1.7):
+    // the skeleton carries the load, R_y = −q A within 1 %.
+    let cells = 10;
+    let h = HEIGHT / cells as f64;
+    for formulation in [FormulationKind::PlaneStrain, FormulationKind::Axisymmetric] {
+        let (area, walls): (f64, Vec<(&str, f64)>) = match formulation {
+            FormulationKind::PlaneStrain => (h, vec![("left", -1.0), ("wall_0", 1.0)]),
+            _ => {
+                let tau = std::f64::consts::TAU;
+                (std::f64::consts::PI * ((1.0 + h) * (1.0 + h) - 1.0), vec![("wall_0", -tau), ("wall_1", tau * (1.0 + h))])
+            }
+        };
+        let load = LOAD * area;
+        let mut names = vec!["bottom"];
+        names.extend(walls.iter().map(|w| w.0));
+        for k in [1e-9, 1e-3] {
+            let mut cfg = column(formulation, cells, k);
+            // A roller base, so that the side walls alone hold the corners' radial velocities.
+            cfg.boundaries.bottom = BoundaryCondition::ROLLER;
+            let mut sim = Simulation::new(cfg, 1).unwrap();
+            let window = 0.01 * HEIGHT * HEIGHT / consolidation_coefficient(1e-3);
+            let (r, inertia, pressure) = mean_reactions(&mut sim, window, &names);
+            println!(
+                "{formulation:?} k {k:e} undrained: R_y/(qA) {:.5}, dP/dt/(qA) {:.5}, p̄/u₀ {:.4}, walls R_x/(p̄ H r) {:?}",
+                r[0][1] / load,
+                inertia / load,
+                pressure / undrained_pressure(),
+                walls.iter().zip(&r[1..]).map(|(w, r)| r[0] / (pressure * HEIGHT * w.1)).collect::<Vec<_>>()
+            );
+            assert!(pressure > 0.9 * undrained_pressure(), "undrained: {pressure}");
+            assert!((r[0][1] + load + inertia).abs() < 0.01 * load, "{formulation:?} k {k}: {} + {load} + {inertia}", r[0][1]);
+            for (w, r) in walls.iter().zip(&r[1..]) {
+                let expected = pressure * HEIGHT * w.1;
+                assert!((r[0] - expected).abs() < 0.01 * expected.abs(), "{formulation:?} k {k} {}: {} vs {expected}", w.0, r[0]);
+            }
+            if k > 1e-6 {
+                sim.advance(1.5 * HEIGHT * HEIGHT / consolidation_coefficient(k), u64::MAX).unwrap();
+                let (r, inertia, pressure) = mean_reactions(&mut sim, 0.2 * HEIGHT * HEIGHT / consolidation_coefficient(k), &names);
+                println!("{formulation:?} k {k:e} drained: R_y/(qA) {:.5}, dP/dt/(qA) {:.2e}, p̄/u₀ {:.4}", r[0][1] / load, inertia / load, pressure / undrained_pressure());
+                assert!((r[0][1] + load).abs() < 0.01 * load, "{formulation:?} drained: {} vs {load}", r[0][1]);
+            }
+        }
+    }
+}
+

@@ -4,7 +4,7 @@
 //! removed at a given time (column collapse: the gate is lifted). The two differ only in the
 //! nodes they pick and in when they act.
 
-use super::{ConstrainedNodes, Constraint, NodalContext, NodeCondition};
+use super::{ConstrainedNodes, Constraint, HeldNodes, NodalContext, NodeCondition};
 use crate::config::{Axis, BoundariesConfig, BoundaryCondition, Condition, Side, WallConfig};
 use crate::grid::GridGeometry;
 
@@ -112,6 +112,25 @@ impl Constraint for LineConstraint {
 
     fn take_impulse(&mut self) -> [f64; 2] {
         self.line.take_impulse()
+    }
+
+    fn book_impulse(&mut self, impulse: [f64; 2]) {
+        self.line.book_impulse(impulse);
+    }
+
+    fn held_nodes(&self) -> Option<HeldNodes<'_>> {
+        // A wall that is lifted during the run is not impermeable (saturated soil) and would
+        // take over bookings it no longer makes.
+        if self.removal_time.is_finite() {
+            return None;
+        }
+        let c = self.line.condition;
+        let directions = match c.condition {
+            Condition::Free => return None,
+            Condition::Fixed => [true; 2],
+            Condition::Roller | Condition::Friction => [c.axis == 0, c.axis == 1],
+        };
+        Some(HeldNodes { nodes: &self.line.nodes, directions, bilateral: c.condition != Condition::Friction })
     }
 
     fn dissipated_energy(&self) -> [f64; 2] {

@@ -95,6 +95,16 @@ pub trait Constraint: Send + Sync {
     fn take_impulse(&mut self) -> [f64; 2] {
         [0.0; 2]
     }
+    /// Adds an impulse the material exerted on the constraint outside its velocity correction
+    /// (N·s per radian or per metre): in a saturated run, the pore water's at an impermeable
+    /// face or wall (`solver::saturated`, "Reactions"). Ignored by a constraint that reports
+    /// no reaction.
+    fn book_impulse(&mut self, _impulse: [f64; 2]) {}
+    /// The fixed nodes whose velocity the constraint holds ([`HeldNodes`]). `None` for a
+    /// constraint whose nodes move (a rigid body) or that holds nothing.
+    fn held_nodes(&self) -> Option<HeldNodes<'_>> {
+        None
+    }
     /// Work of the recorded (v⁺) corrections against the material since the start of the run
     /// (J per radian or per metre; module doc): [normal component, tangential component].
     /// Not reset.
@@ -117,6 +127,16 @@ pub trait Constraint: Send + Sync {
     fn as_rigid_body_mut(&mut self) -> Option<&mut RigidBody> {
         None
     }
+}
+
+/// The fixed nodes a face or wall holds, in which directions ([x, y]: its normal, both for
+/// `fixed`), and whether for good (`roller`, `fixed`: the held velocity is zero after every
+/// correction) or only while pressed in (`friction`).
+#[derive(Clone, Copy, Debug)]
+pub struct HeldNodes<'a> {
+    pub nodes: &'a [u32],
+    pub directions: [bool; 2],
+    pub bilateral: bool,
 }
 
 impl Friction {
@@ -347,6 +367,12 @@ impl ConstrainedNodes {
     /// The impulse recorded since the last call (see [`Constraint::take_impulse`]).
     pub fn take_impulse(&mut self) -> [f64; 2] {
         std::mem::take(&mut self.impulse)
+    }
+
+    /// See [`Constraint::book_impulse`].
+    pub fn book_impulse(&mut self, impulse: [f64; 2]) {
+        self.impulse[0] += impulse[0];
+        self.impulse[1] += impulse[1];
     }
 
     /// See [`Constraint::dissipated_energy`].
@@ -693,6 +719,42 @@ mod tests {
             let expected = if kept { [0.0, 0.0] } else { [-1.0, 0.0] };
             assert_eq!(remapped[node], expected, "t = {time}");
         }
+    }
+
+    #[test]
+    fn faces_and_walls_tell_the_nodes_and_directions_they_hold() {
+        let g = GridGeometry::new([0.0, 0.0], [1.0, 1.0], 0.5);
+        let faces = BoundariesConfig {
+            left: BoundaryCondition::ROLLER,
+            bottom: BoundaryCondition::FIXED,
+            right: BoundaryCondition::friction(0.3),
+            ..Default::default()
+        };
+        let wall = |removal_time| WallConfig {
+            axis: Axis::Y,
+            position: 0.5,
+            material_side: Side::Positive,
+            condition: Condition::Roller,
+            coefficient: 0.0,
+            removal_time,
+        };
+        let cs = Constraints::new(&g, &faces, &[wall(None), wall(Some(1.0))], true, false);
+        let held: Vec<_> = cs.list.iter().map(|c| c.held_nodes().map(|h| (c.name().to_string(), h.nodes.to_vec(), h.directions, h.bilateral))).collect();
+        assert_eq!(
+            held,
+            vec![
+                // Axisymmetric: no left face; the axis holds nothing it books.
+                Some(("right".into(), vec![2, 5, 8], [true, false], false)),
+                Some(("bottom".into(), vec![0, 1, 2], [true, true], true)),
+                None,
+                // The standing wall: its line y = 0.5 and the row below it.
+                Some(("wall_0".into(), vec![0, 1, 2, 3, 4, 5], [false, true], true)),
+                // A wall lifted during the run holds nothing for good.
+                None,
+            ]
+        );
+        let free = Constraints::new(&g, &BoundariesConfig::default(), &[WallConfig { condition: Condition::Free, ..wall(None) }], false, false);
+        assert!(free.list.is_empty());
     }
 
     #[test]

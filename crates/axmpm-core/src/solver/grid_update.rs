@@ -57,17 +57,18 @@ pub(super) fn update_grid(state: &mut State, dt: f64) {
 
 /// Constraints on the start-of-step velocities (so that FLIP sees v⁺ − v of the constrained
 /// field; rigid bodies excepted, see `constraint/rigid_body.rs`), then on v⁺: that correction
-/// is the physical one, recorded as the reaction (shared with the saturated pass).
+/// is the physical one, recorded as the reaction (shared with the saturated pass). The nodal
+/// mass the constraints book their impulses with is the solid's, or in a saturated run the
+/// mixture's response to a change of the solid's velocity
+/// ([`super::saturated::WaterState::reaction_mass`]).
 pub(super) fn constrain_velocities(state: &mut State, dt: f64) {
     let serial_start = std::time::Instant::now();
     let fields = &mut state.fields;
-    let context = NodalContext {
-        grid: &state.grid,
-        mass: &fields.mass,
-        time: state.time,
-        dt,
-        axisymmetric: state.parameters.axisymmetric,
+    let mass = match &state.water {
+        Some(water) => &water.reaction_mass,
+        None => &fields.mass,
     };
+    let context = NodalContext { grid: &state.grid, mass, time: state.time, dt, axisymmetric: state.parameters.axisymmetric };
     state.constraints.apply_start_of_step(&context, &mut fields.velocity);
     state.constraints.apply(&context, &mut fields.velocity_new, true);
     state.timings.serial += serial_start.elapsed().as_secs_f64();

@@ -25,7 +25,14 @@
 //!
 //! A drained boundary (p = 0) is the natural condition of the water equation (no boundary
 //! integral): free surfaces are drained. An impermeable face holds the water's normal velocity
-//! to the solid's. The pore pressure is updated at the particles; its increment is averaged
+//! to the solid's.
+//!
+//! Reactions: a constraint that changes the solid's velocity at a node by δv changes the
+//! water's by β δv through the drag (β = Δt Q/(M̄_w + Δt Q), the water row), so it books the
+//! mixture's impulse ([`reaction_mass`]) M_s δv + M_w β δv; an impermeable face or wall that
+//! holds the solid also books the water's impulse M_w (w⁺ − v⁺) its impermeability removes.
+//! The reported reaction is then the total force on the face, M_s Δv + M_w Δw against the
+//! unconstrained update. The pore pressure is updated at the particles; its increment is averaged
 //! over the particles of each background cell (the cell-centre volumetric rate, as the mean
 //! dilatation does for the solid), which keeps the pressure field free of checkerboards.
 //!
@@ -42,7 +49,8 @@ use rayon::prelude::*;
 use super::grid_update::{constrain_velocities, damped};
 use super::tiles::{inside, scatter_by_colour, zero_box, Shared, TileReach};
 use super::{Failure, State};
-use crate::config::{BoundariesConfig, Condition, Config, Drainage, DrainageConfig, FormulationKind, Side, WallConfig};
+use crate::config::{BoundariesConfig, Config, Drainage, DrainageConfig, FormulationKind, WallConfig};
+use crate::constraint::Constraints;
 use crate::formulation::Formulation;
 use crate::grid::{GridGeometry, NodeBox};
 use crate::interpolation::{ParticleDomain, ShapeFunction};
@@ -114,9 +122,14 @@ pub struct WaterState {
     /// w at the start of the step and w⁺.
     pub velocity: Vec<[f64; 2]>,
     pub velocity_new: Vec<[f64; 2]>,
-    /// (node, direction) of the nodes whose water velocity follows the solid's in that
-    /// direction (impermeable faces and walls, the axis).
-    pub impermeable: Vec<(u32, u8)>,
+    /// The nodes and directions whose water velocity follows the solid's (impermeable faces
+    /// and walls, the axis, the loading plate).
+    pub impermeable: Vec<ImpermeableNode>,
+    /// Per node and direction, whether a `roller` or `fixed` face or wall holds the solid's
+    /// velocity there (at zero, whatever the force): no damping there (`update_grid`).
+    pub held: Vec<[bool; 2]>,
+    /// Per node, the mass the constraints book their impulses with ([`reaction_mass`]).
+    pub reaction_mass: Vec<f64>,
     /// Some particle carries a surface load ([`Particles::external_force`]).
     pub loaded: bool,
     /// Per particle: Δt ∇·w, then the storage increment; the volume at the start of the update.
@@ -136,9 +149,22 @@ pub struct WaterState {
     pub face_pressures: [Option<f64>; 4],
 }
 
+/// A node and direction where no water crosses, and the constraint that books the water's
+/// impulse there: the first that holds the solid's velocity in that direction at that node
+/// ([`crate::constraint::Constraint::held_nodes`]; its index in [`Constraints::list`]), as it
+/// books the solid's impulse there. `None`: no reporting constraint holds it (the axis, the
+/// loading plate, an impermeable face that is free for the skeleton).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ImpermeableNode {
+    pub node: u32,
+    pub axis: u8,
+    pub owner: Option<u32>,
+}
+
 impl WaterState {
-    /// The water of a run (`None` for a dry one).
-    pub fn new(config: &Config, grid: &GridGeometry, particles: &Particles) -> Option<Box<Self>> {
+    /// The water of a run (`None` for a dry one); `constraints`: the run's, to book the
+    /// impermeable faces' and walls' water impulses to.
+    pub fn new(config: &Config, grid: &GridGeometry, particles: &Particles, constraints: &Constraints) -> Option<Box<Self>> {
         let (bulk_modulus, density) = pore_water(config)?;
         let nodes = grid.num_nodes();
         let n = particles.len();
@@ -147,9 +173,27 @@ impl WaterState {
         let mean = saturated.iter().sum::<f64>() / saturated.len().max(1) as f64;
         let axisymmetric = config.simulation.formulation == FormulationKind::Axisymmetric;
         let plate = plate_row(config, grid, particles);
-        let mut impermeable = impermeable_nodes(grid, &config.boundaries, &config.drainage, &config.walls, axisymmetric);
+        // Per node and direction, the first reporting constraint that holds the solid there,
+        // and whether some face or wall holds it for good.
+        let mut holder = vec![[None; 2]; nodes];
+        let mut held = vec![[false; 2]; nodes];
+        for (index, c) in constraints.list.iter().enumerate() {
+            let Some(h) = c.held_nodes() else { continue };
+            for &node in h.nodes {
+                for d in (0..2).filter(|&d| h.directions[d]) {
+                    if c.reports_reaction() {
+                        holder[node as usize][d] = holder[node as usize][d].or(Some(index as u32));
+                    }
+                    held[node as usize][d] |= h.bilateral;
+                }
+            }
+        }
+        let mut impermeable: Vec<ImpermeableNode> = impermeable_nodes(grid, &config.boundaries, &config.drainage, &config.walls, axisymmetric)
+            .into_iter()
+            .map(|(node, axis)| ImpermeableNode { node, axis, owner: holder[node as usize][axis as usize] })
+            .collect();
         if let Some(row) = plate {
-            impermeable.extend((0..grid.nodes[0]).map(|i| (grid.node_index(i, row) as u32, 1)));
+            impermeable.extend((0..grid.nodes[0]).map(|i| ImpermeableNode { node: grid.node_index(i, row) as u32, axis: 1, owner: None }));
         }
         Some(Box::new(Self {
             bulk_modulus,
@@ -163,6 +207,8 @@ impl WaterState {
             velocity: vec![[0.0; 2]; nodes],
             velocity_new: vec![[0.0; 2]; nodes],
             impermeable,
+            held,
+            reaction_mass: vec![0.0; nodes],
             loaded: particles.external_force.iter().any(|f| *f != [0.0; 2]),
             water_dilatation: vec![0.0; n],
             volume_before: vec![0.0; n],
@@ -214,21 +260,11 @@ pub fn impermeable_nodes(
     face(right == Drainage::Impermeable, (0..ny).map(|j| grid.node_index(nx - 1, j)).collect(), 0);
     face(bottom == Drainage::Impermeable, (0..nx).map(|i| grid.node_index(i, 0)).collect(), 1);
     face(top == Drainage::Impermeable, (0..nx).map(|i| grid.node_index(i, ny - 1)).collect(), 1);
-    let tol = 1e-6 * grid.cell_size;
-    for w in walls.iter().filter(|w| w.condition != Condition::Free && w.removal_time.is_none()) {
-        let axis = match w.axis {
-            crate::config::Axis::X => 0,
-            crate::config::Axis::Y => 1,
-        };
-        for node in 0..grid.num_nodes() {
-            let x = grid.node_position(node)[axis];
-            let beyond = match w.material_side {
-                Side::Negative => x >= w.position - tol,
-                Side::Positive => x <= w.position + tol,
-            };
-            if beyond {
-                out.push((node as u32, axis as u8));
-            }
+    // A wall's nodes: its line and beyond, as the wall itself constrains them.
+    for (index, w) in walls.iter().enumerate().filter(|(_, w)| w.removal_time.is_none()) {
+        if let Some(wall) = crate::constraint::LineConstraint::wall(format!("wall_{index}"), grid, w) {
+            let axis = wall.line.condition.axis;
+            out.extend(wall.line.nodes.into_iter().map(|k| (k, axis)));
         }
     }
     out
@@ -252,6 +288,15 @@ pub fn solve_node(m_s: f64, m_w: f64, m_eq: f64, drag: f64, impulse: f64, water_
 #[inline(always)]
 pub fn water_velocity(m_eq: f64, drag: f64, w: f64, water_impulse: f64, v_new: f64) -> f64 {
     (m_eq * w + water_impulse + drag * v_new) / (m_eq + drag)
+}
+
+/// The mixture's momentum per unit change of the solid's velocity at a node: M_s + β M_w,
+/// β = Δt Q/(M̄_w + Δt Q) the water row's response ∂w⁺/∂v⁺ ([`water_velocity`]). A constraint
+/// that changes v⁺ by δv changes the mixture's momentum by this times δv: the impulse it
+/// books. `drag` = Δt Q.
+#[inline(always)]
+pub fn reaction_mass(m_s: f64, m_w: f64, m_eq: f64, drag: f64) -> f64 {
+    m_s + m_w * drag / (m_eq + drag)
 }
 
 /// The mixture's volumetric strain increment of the storage equation over one step,
@@ -519,19 +564,26 @@ fn update_grid(state: &mut State, dt: f64) {
         .zip(water.momentum.par_chunks(nx))
         .zip(water.drag.par_chunks(nx))
         .zip(water.force.par_chunks(nx))
+        .zip(water.reaction_mass.par_chunks_mut(nx))
+        .zip(water.held.par_chunks(nx))
         .skip(first_row)
         .take(rows)
-        .for_each(|((((((((((v, v_new), w), m), p), f), m_eq), m_w), p_w), q), f_w)| {
+        .for_each(|((((((((((((v, v_new), w), m), p), f), m_eq), m_w), p_w), q), f_w), m_r), held)| {
             for k in columns.clone() {
                 let (m, m_eq) = (m[k], m_eq[k]);
+                // The water row is re-solved for the constrained v⁺ only at nodes with force
+                // updates and water (below): elsewhere a constraint moves the solid alone.
+                m_r[k] = if m > params.mass_threshold && m_eq > water_threshold { reaction_mass(m, m_w[k], m_eq, dt * q[k]) } else { m };
                 if m > params.mass_threshold {
                     let v0 = [p[k][0] / m, p[k][1] / m];
                     let has_water = m_eq > water_threshold;
                     let w0 = if has_water { [p_w[k][0] / m_eq, p_w[k][1] / m_eq] } else { v0 };
                     let mut vn = [0.0; 2];
                     for d in 0..2 {
-                        // Cundall local damping of the mixture's unbalanced force.
-                        let force = damped(f[k][d], params.damping, v0[d]);
+                        // Cundall local damping of the mixture's unbalanced force, except where
+                        // a face or wall holds the velocity: there the force is balanced by the
+                        // support (which books it as the reaction), and v⁺ is zero whatever it is.
+                        let force = if held[k][d] { f[k][d] } else { damped(f[k][d], params.damping, v0[d]) };
                         vn[d] = if has_water {
                             v0[d] + solve_node(m, m_w[k], m_eq, dt * q[k], dt * force, dt * f_w[k][d], w0[d] - v0[d])
                         } else {
@@ -583,9 +635,20 @@ fn update_grid(state: &mut State, dt: f64) {
                 };
             }
         });
-    for &(node, d) in &water.impermeable {
-        let (node, d) = (node as usize, d as usize);
-        water.velocity_new[node][d] = fields.velocity_new[node][d];
+    // Impermeable: the water's normal velocity is held to the solid's; the face or wall that
+    // holds the solid there takes the water's impulse M_w (w⁺ − v⁺) too (module doc,
+    // "Reactions"). One thread, in list order: deterministic.
+    for &ImpermeableNode { node, axis, owner } in &water.impermeable {
+        let (node, d) = (node as usize, axis as usize);
+        let held = fields.velocity_new[node][d];
+        if let Some(owner) = owner {
+            if fields.mass[node] > light && water.equation_mass[node] > water_threshold {
+                let mut impulse = [0.0; 2];
+                impulse[d] = water.mass[node] * (water.velocity_new[node][d] - held);
+                state.constraints.list[owner as usize].book_impulse(impulse);
+            }
+        }
+        water.velocity_new[node][d] = held;
         water.velocity[node][d] = fields.velocity[node][d];
     }
     water.drag_work += drag_work(water, &fields.velocity_new, dt, first_row..first_row + rows, columns, nx);
@@ -798,6 +861,19 @@ mod tests {
         let dw = water_velocity(m_eq, 0.0, 0.0, water_impulse, dv) - 0.0;
         assert!((dw - water_impulse / m_eq).abs() < 1e-15);
         assert!((dv - (impulse - m_w * water_impulse / m_eq) / m_s).abs() < 1e-12);
+    }
+
+    #[test]
+    fn reaction_mass_is_the_mixtures_response_to_the_solids_velocity() {
+        // M_s = 3, M_w = 0.8, M̄_w = 2: no drag, the water stays (β = 0); Δt Q = 6, β = 6/8.
+        assert_eq!(reaction_mass(3.0, 0.8, 2.0, 0.0), 3.0);
+        assert!((reaction_mass(3.0, 0.8, 2.0, 6.0) - (3.0 + 0.8 * 0.75)).abs() < 1e-15);
+        // It is M_s + M_w ∂w⁺/∂v⁺ of the water row.
+        let (m_eq, drag, w, impulse) = (2.0, 6.0, 0.1, 0.3);
+        let slope = (water_velocity(m_eq, drag, w, impulse, 1.5) - water_velocity(m_eq, drag, w, impulse, 0.5)) / 1.0;
+        assert!((reaction_mass(3.0, 0.8, m_eq, drag) - (3.0 + 0.8 * slope)).abs() < 1e-14);
+        // Locked (Δt Q ≫ M̄_w): the whole mixture.
+        assert!((reaction_mass(3.0, 0.8, 2.0, 1e12) - 3.8).abs() < 1e-11);
     }
 
     #[test]
