@@ -179,3 +179,15 @@ def test_command_line_exits_2_naming_the_key(tmp_path: Path) -> None:
     result = run_cli("check", path)
     assert result.returncode == 2, result.stderr
     assert "bodies.0.saturated.hydraulic_conductivity" in result.stderr and "Traceback" not in result.stderr
+
+
+def test_penalty_contact_is_refused_next_to_a_saturated_body() -> None:
+    # The saturated step imposes a rigid body's contact at the nodes only.
+    data = _scenario()
+    data["rigid_bodies"] = [{"name": "plate", "shape": "rectangle", "min": [0.0, 1.0], "max": [0.1, 1.1],
+                             "velocity": [0.0, 0.0], "contact": "penalty", "experimental": True}]
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(data)
+    assert "rigid_bodies.0.contact" in str(info.value) and "saturated" in str(info.value)
+    data["rigid_bodies"][0]["contact"] = "nodes"
+    Scenario.from_dict(data)

@@ -486,6 +486,14 @@ impl Config {
             }
         }
         validate_saturated(self)?;
+        if self.bodies.iter().any(|b| b.saturated.is_some()) {
+            if let Some(i) = self.rigid_bodies.iter().position(|b| b.contact == ContactKind::Penalty) {
+                return Err(format!(
+                    "rigid_bodies.{i}.contact: \"penalty\" cannot be combined with saturated bodies (the saturated step \
+                     imposes a rigid body's contact at the nodes): use \"nodes\""
+                ));
+            }
+        }
         if let Some(name) = &g.follow {
             validate_follow(self, name)?;
         }

@@ -474,3 +474,20 @@ fn impermeable_faces_and_walls_report_the_total_force_solid_and_water() {
     }
 }
 
+
+#[test]
+fn a_penalty_contact_next_to_a_saturated_body_is_refused_naming_the_key() {
+    // The saturated step imposes a rigid body's contact at the nodes only.
+    let mut cfg = column(FormulationKind::PlaneStrain, 10, 1e-3);
+    let body = |contact: &str| {
+        common::rigid_body_table(serde_json::json!({
+            "name": "plate", "shape": "rectangle", "min": [0.0, 1.0], "max": [0.1, 1.1],
+            "velocity": [0.0, 0.0], "contact": contact, "experimental": true
+        }))
+    };
+    cfg.rigid_bodies = vec![body("penalty")];
+    let error = Simulation::new(cfg.clone(), 1).err().expect("refused");
+    assert!(error.contains("rigid_bodies.0.contact") && error.contains("saturated"), "{error}");
+    cfg.rigid_bodies = vec![body("nodes")];
+    assert!(Simulation::new(cfg, 1).is_ok());
+}
