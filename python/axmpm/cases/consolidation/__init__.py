@@ -85,6 +85,9 @@ MANDEL_DAMPING = 0.2
 #: on its way up to the peak).
 MANDEL_TOLERANCE = 0.05
 MANDEL_FROM_TIME_FACTOR = 0.05
+# Largest spread of the cell pressures down one column of cells (p₀), where the exact field is
+# uniform: a checkerboard of the pressure would exceed it.
+CHECKERBOARD_TOLERANCE = 0.01
 
 
 def _saturated_block(formulation: str, end_time: float, output_interval: float, h: float, extent: list[float],
@@ -146,7 +149,8 @@ def mandel_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
     material = mandel_material(run.params["conductivity"])
     p0 = material.initial_pressure(LOAD)
     try:
-        history = load_run(run_dir).history
+        run_output = load_run(run_dir)
+        history = run_output.history
         t = np.asarray(history["time"]) * material.consolidation_coefficient / MANDEL_HALF_WIDTH**2
         p = np.asarray(history["centre.pore_pressure"]) / p0
     except Exception:  # noqa: BLE001 - a failed run without history
@@ -156,9 +160,16 @@ def mandel_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
     exact_p = mandel.centre_pressure(t, material)
     later = t >= MANDEL_FROM_TIME_FACTOR
     t, p, exact_p = t[later], p[later], exact_p[later]
+    h = MANDEL_HALF_WIDTH / run.params["cells"]
+    field = [mandel.field_errors(frame.x, frame.pore_pressure, h, MANDEL_HALF_WIDTH, time_factor, material, p0)
+             for time_factor, frame in zip(np.asarray(run_output.times) * material.consolidation_coefficient
+                                           / MANDEL_HALF_WIDTH**2, run_output.frames)
+             if time_factor >= MANDEL_FROM_TIME_FACTOR]
     return {"p0": p0, "mandel_error": float(np.max(np.abs(p - exact_p))),
             "peak": float(p.max()), "peak_exact": float(exact_p.max()),
-            "peak_time_factor": float(t[int(np.argmax(p))]), "cell_size": MANDEL_HALF_WIDTH / run.params["cells"]}
+            "peak_time_factor": float(t[int(np.argmax(p))]), "cell_size": h,
+            "field_error": max((f[0] for f in field), default=None),
+            "column_spread": max((f[1] for f in field), default=None)}
 
 
 def run_name(formulation: str, cells: int) -> str:
@@ -296,6 +307,16 @@ def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[
             checks.append({"name": f"{r['run']}: the centre's pressure rises above p₀ (Mandel–Cryer effect)",
                            "passed": peak is not None and peak > 1.0,
                            "detail": f"peak p/p₀ = {fmt(peak, '.4f')} (closed form {fmt(r.get('peak_exact'), '.4f')})"})
+            e = r.get("field_error")
+            checks.append({"name": f"{r['run']}: the pressure field within {MANDEL_TOLERANCE} p₀ in every cell "
+                                   f"from c t/a² = {MANDEL_FROM_TIME_FACTOR:g} (each output frame)",
+                           "passed": e is not None and e <= MANDEL_TOLERANCE,
+                           "detail": f"max |⟨p⟩_cell − p_exact|/p₀ = {fmt(e, '.4f')}"})
+            e = r.get("column_spread")
+            checks.append({"name": f"{r['run']}: no checkerboard: the cell pressures down a column of cells "
+                                   f"within {CHECKERBOARD_TOLERANCE} p₀ of each other",
+                           "passed": e is not None and e <= CHECKERBOARD_TOLERANCE,
+                           "detail": f"largest spread = {fmt(e, '.4f')} p₀"})
             continue
         if r.get("kind") == "undrained":
             e = r.get("undrained_error")
@@ -315,6 +336,11 @@ def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[
         errors = [r.get("mandel_error") for r in group]
         if len(group) >= 2 and None not in errors:
             checks.append({"name": "Mandel: the error shrinks with the mesh", "passed": errors[-1] < errors[0],
+                           "detail": ", ".join(f"a/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
+        errors = [r.get("field_error") for r in group]
+        if len(group) >= 2 and None not in errors:
+            checks.append({"name": "Mandel: the pressure field's error shrinks with the mesh",
+                           "passed": errors[-1] < errors[0],
                            "detail": ", ".join(f"a/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
         for f in FORMULATIONS:
             group = sorted((r for r in results if r.get("formulation") == f and r.get("kind") == "consolidation"),
@@ -341,9 +367,11 @@ def results_table(results: list[dict[str, Any]]) -> str:
     mandel_rows = [r for r in results if r.get("kind") == "mandel"]
     if mandel_rows:
         rows += ["", "| Mandel run | a/h | max \\|Δp\\|/p₀ (c t/a² ≥ " + f"{MANDEL_FROM_TIME_FACTOR:g}) | peak p/p₀ | "
-                 "closed-form peak | T at peak |", "|---|---|---|---|---|---|"]
+                 "closed-form peak | T at peak | field: max \\|Δ⟨p⟩_cell\\|/p₀ | column spread/p₀ |",
+                 "|---|---|---|---|---|---|---|---|"]
         rows += [f"| {r['run']} | {r['cells']} | {fmt(r.get('mandel_error'), '.4f')} | {fmt(r.get('peak'), '.4f')} | "
-                 f"{fmt(r.get('peak_exact'), '.4f')} | {fmt(r.get('peak_time_factor'), '.3f')} |" for r in mandel_rows]
+                 f"{fmt(r.get('peak_exact'), '.4f')} | {fmt(r.get('peak_time_factor'), '.3f')} | "
+                 f"{fmt(r.get('field_error'), '.4f')} | {fmt(r.get('column_spread'), '.4f')} |" for r in mandel_rows]
     for r in results:
         if r.get("kind") == "undrained":
             rows.append(f"\nUndrained (k = {UNDRAINED_CONDUCTIVITY:g} m/s, K_w = {UNDRAINED_WATER_BULK_MODULUS:g} Pa): "
