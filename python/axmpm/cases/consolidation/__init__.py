@@ -391,31 +391,40 @@ def run_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
     return out
 
 
+def _centre_checks(r: dict[str, Any], what: str, error_key: str, tolerance: float) -> list[dict[str, Any]]:
+    """The two checks of a centre-pressure run: ``what`` (within ``tolerance`` p₀ from a stated
+    time on) and the rise above p₀."""
+    e = r.get(error_key)
+    peak = r.get("peak")
+    return [{"name": f"{r['run']}: {what}", "passed": e is not None and e <= tolerance,
+             "detail": f"max |Δp|/p₀ = {fmt(e, '.4f')}"},
+            {"name": f"{r['run']}: the centre's pressure rises above p₀ (Mandel–Cryer effect)",
+             "passed": peak is not None and peak > 1.0,
+             "detail": f"peak p/p₀ = {fmt(peak, '.4f')} (closed form {fmt(r.get('peak_exact'), '.4f')})"}]
+
+
+def _mesh_check(name: str, group: list[dict[str, Any]], error_key: str, size: str) -> list[dict[str, Any]]:
+    """``name``: the error of the finest run of ``group`` below the coarsest's (none without two
+    runs with errors)."""
+    group = sorted(group, key=lambda r: r["cells"])
+    errors = [r.get(error_key) for r in group]
+    if len(group) < 2 or None in errors:
+        return []
+    return [{"name": name, "passed": errors[-1] < errors[0],
+             "detail": ", ".join(f"{size} = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))}]
+
+
 def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[dict[str, Any]]:
     checks: list[dict[str, Any]] = []
     for r in results:
         if r.get("kind") == "mandel":
-            e = r.get("mandel_error")
-            checks.append({"name": f"{r['run']}: Mandel's centre pressure within {MANDEL_TOLERANCE} p₀ "
-                                   f"from c t/a² = {MANDEL_FROM_TIME_FACTOR:g}",
-                           "passed": e is not None and e <= MANDEL_TOLERANCE,
-                           "detail": f"max |Δp|/p₀ = {fmt(e, '.4f')}"})
-            peak = r.get("peak")
-            checks.append({"name": f"{r['run']}: the centre's pressure rises above p₀ (Mandel–Cryer effect)",
-                           "passed": peak is not None and peak > 1.0,
-                           "detail": f"peak p/p₀ = {fmt(peak, '.4f')} (closed form {fmt(r.get('peak_exact'), '.4f')})"})
+            checks += _centre_checks(r, f"Mandel's centre pressure within {MANDEL_TOLERANCE} p₀ from c t/a² = "
+                                        f"{MANDEL_FROM_TIME_FACTOR:g}", "mandel_error", MANDEL_TOLERANCE)
             continue
         if r.get("kind") == "radial":
-            title = RADIAL_TITLES.get(r.get("shape"), "radial")
-            e = r.get("centre_error")
-            checks.append({"name": f"{r['run']}: {title}, centre pressure within {RADIAL_TOLERANCE} p₀ "
-                                   f"from c t/R² = {RADIAL_FROM_TIME_FACTOR:g}",
-                           "passed": e is not None and e <= RADIAL_TOLERANCE,
-                           "detail": f"max |Δp|/p₀ = {fmt(e, '.4f')}"})
-            peak = r.get("peak")
-            checks.append({"name": f"{r['run']}: the centre's pressure rises above p₀ (Mandel–Cryer effect)",
-                           "passed": peak is not None and peak > 1.0,
-                           "detail": f"peak p/p₀ = {fmt(peak, '.4f')} (closed form {fmt(r.get('peak_exact'), '.4f')})"})
+            checks += _centre_checks(r, f"{RADIAL_TITLES.get(r.get('shape'), 'radial')}, centre pressure within "
+                                        f"{RADIAL_TOLERANCE} p₀ from c t/R² = {RADIAL_FROM_TIME_FACTOR:g}",
+                                     "centre_error", RADIAL_TOLERANCE)
             continue
         if r.get("kind") == "undrained":
             e = r.get("undrained_error")
@@ -431,27 +440,16 @@ def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[
                        "passed": e is not None and e <= ISOCHRONE_TOLERANCE,
                        "detail": f"max |Δu|/u₀ = {fmt(e, '.4f')}"})
     if not quick:
-        group = sorted((r for r in results if r.get("kind") == "mandel"), key=lambda r: r["cells"])
-        errors = [r.get("mandel_error") for r in group]
-        if len(group) >= 2 and None not in errors:
-            checks.append({"name": "Mandel: the error shrinks with the mesh", "passed": errors[-1] < errors[0],
-                           "detail": ", ".join(f"a/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
+        checks += _mesh_check("Mandel: the error shrinks with the mesh",
+                              [r for r in results if r.get("kind") == "mandel"], "mandel_error", "a/h")
         for shape in RADIAL_SHAPES:
-            group = sorted((r for r in results if r.get("kind") == "radial" and r.get("shape") == shape),
-                           key=lambda r: r["cells"])
-            errors = [r.get("centre_error") for r in group]
-            if len(group) >= 2 and None not in errors:
-                checks.append({"name": f"{RADIAL_TITLES[shape]}: the error shrinks with the mesh",
-                               "passed": errors[-1] < errors[0],
-                               "detail": ", ".join(f"R/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
+            checks += _mesh_check(f"{RADIAL_TITLES[shape]}: the error shrinks with the mesh",
+                                  [r for r in results if r.get("kind") == "radial" and r.get("shape") == shape],
+                                  "centre_error", "R/h")
         for f in FORMULATIONS:
-            group = sorted((r for r in results if r.get("formulation") == f and r.get("kind") == "consolidation"),
-                           key=lambda r: r["cells"])
-            errors = [r.get("degree_error") for r in group]
-            if len(group) >= 2 and None not in errors:
-                checks.append({"name": f"{f}: the U error shrinks with the mesh",
-                               "passed": errors[-1] < errors[0],
-                               "detail": ", ".join(f"H/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
+            checks += _mesh_check(f"{f}: the U error shrinks with the mesh",
+                                  [r for r in results if r.get("formulation") == f and r.get("kind") == "consolidation"],
+                                  "degree_error", "H/h")
     return checks
 
 
