@@ -592,6 +592,11 @@ def plot_radial(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
     return True
 
 
+def _cell(text: str) -> str:
+    """A Markdown table cell: the bars of "|Δp|" escaped, which would otherwise end the cell."""
+    return str(text).replace("|", "\\|")
+
+
 class Consolidation:
     """Consolidation of saturated soil (two-phase v–w): Terzaghi's column in plane strain and
     axisymmetric, Mandel's specimen, Cryer's sphere and de Leeuw's cylinder."""
@@ -682,7 +687,8 @@ class Consolidation:
                  f"--quick: k = {QUICK_CONDUCTIVITY:g} m/s). U = 1 − ⟨p⟩/u₀; the isochrones are compared at the "
                  "centres of the cells (the pressure is the cell's).", "",
                  results_table(list(results)), "", "| check | passed | detail |", "|---|---|---|"]
-        lines += [f"| {c['name']} | {'yes' if c['passed'] else 'NO'} | {c.get('detail', DASH)} |" for c in checks]
+        lines += [f"| {_cell(c['name'])} | {'yes' if c['passed'] else 'NO'} | {_cell(c.get('detail', DASH))} |"
+                  for c in checks]
         figure = Path(out) / "figures" / "consolidation.png"
         if context.get("figures", True) and plot(list(results), Path(out), figure):
             lines += ["", f"![U against T_v and the isochrones]({figure.relative_to(Path(out))})"]
