@@ -54,6 +54,8 @@ def test_quick_run_meets_terzaghi(tmp_path: Path) -> None:
     assert mandel_run["status"] == "completed", mandel_run["message"]
     assert mandel_run["mandel_error"] < consolidation.MANDEL_TOLERANCE
     assert mandel_run["peak"] > 1.0  # the Mandel–Cryer effect
+    assert mandel_run["field_error"] < consolidation.MANDEL_TOLERANCE
+    assert mandel_run["column_spread"] < consolidation.CHECKERBOARD_TOLERANCE
     for name in ("cryer_n10", "deleeuw_n10"):
         r = records[name]
         assert r["status"] == "completed", r["message"]
@@ -101,12 +103,21 @@ def test_checks_fail_on_bad_records() -> None:
     assert not consolidation.evaluate_checks([dict(good, isochrone_error=None)], quick=True)[1]["passed"]
     undrained = {"run": "undrained", "kind": "undrained", "undrained_ratio": 1.02, "undrained_error": 0.02}
     assert not consolidation.evaluate_checks([undrained], quick=True)[0]["passed"]
-    m10 = {"run": "mandel_n10", "kind": "mandel", "cells": 10, "mandel_error": 0.03, "peak": 1.1}
-    m20 = dict(m10, run="mandel_n20", cells=20, mandel_error=0.02)
+    m10 = {"run": "mandel_n10", "kind": "mandel", "cells": 10, "mandel_error": 0.03, "peak": 1.1,
+           "field_error": 0.004, "column_spread": 0.0003}
+    m20 = dict(m10, run="mandel_n20", cells=20, mandel_error=0.02, field_error=0.002)
     assert all(c["passed"] for c in consolidation.evaluate_checks([m10, m20]))
-    assert not consolidation.evaluate_checks([m10, dict(m20, mandel_error=0.04)])[-1]["passed"]
-    assert not consolidation.evaluate_checks([dict(m10, mandel_error=0.06)], quick=True)[0]["passed"]
-    assert not consolidation.evaluate_checks([dict(m10, peak=0.99)], quick=True)[1]["passed"]
+
+    def failed(records: list[dict], quick: bool = False) -> list[str]:
+        return [c["name"] for c in consolidation.evaluate_checks(records, quick=quick) if not c["passed"]]
+
+    assert failed([m10, dict(m20, mandel_error=0.04)]) == ["Mandel: the error shrinks with the mesh"]
+    assert failed([m10, dict(m20, field_error=0.005)]) == ["Mandel: the pressure field's error shrinks with the mesh"]
+    assert "centre pressure within" in failed([dict(m10, mandel_error=0.06)], quick=True)[0]
+    assert "Mandel–Cryer" in failed([dict(m10, peak=0.99)], quick=True)[0]
+    assert "the pressure field within" in failed([dict(m10, field_error=0.06)], quick=True)[0]
+    assert "no checkerboard" in failed([dict(m10, column_spread=0.02)], quick=True)[0]
+    assert len(failed([dict(m10, field_error=None, column_spread=None)], quick=True)) == 2
     for shape in consolidation.RADIAL_SHAPES:
         r10 = {"run": f"{shape}_n10", "kind": "radial", "shape": shape, "cells": 10, "centre_error": 0.03,
                "peak": 1.5}

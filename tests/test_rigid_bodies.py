@@ -80,6 +80,32 @@ def test_bad_rigid_body_input_names_the_key(override: str, key: str, text: str) 
     assert text in errors[key], errors[key]
 
 
+def test_every_refusal_of_a_moving_grid_is_reported() -> None:
+    """The engine's follow_errors, each one under grid.follow (not only the first)."""
+    data = footing()
+    data["grid"]["follow"] = "pile"
+    data["walls"] = [{"axis": "x", "position": 0.9, "material_side": "negative", "condition": "roller"}]
+    data["bodies"][0]["saturated"] = {"porosity": 0.4, "hydraulic_conductivity": 1e-6}
+    with pytest.raises(ScenarioError) as info:
+        Scenario.from_dict(data)
+    found = [message for key, message in info.value.errors if key == "grid.follow"]
+    assert len(found) == 4, found
+    for text in ("set grid.experimental = true", "must name a rigid body ('footing') (got 'pile')",
+                 "cannot be combined with walls", "cannot be combined with saturated bodies"):
+        assert any(text in message for message in found), (text, found)
+
+
+def test_a_moving_grid_with_a_nonlocal_material_is_refused() -> None:
+    data = footing()
+    data["grid"].update(follow="footing", experimental=True)
+    data["materials"]["grains"] = {"model": "granular_fluidity", "density": 1550.0, "youngs_modulus": 1e6,
+                                   "poisson_ratio": 0.3, "experimental": True}
+    Scenario.from_dict(data)  # defined but used by no body: accepted
+    data["bodies"][0]["material"] = "grains"
+    errors = errors_of(data)
+    assert "non-local material" in errors["grid.follow"], errors
+
+
 def test_radial_motion_in_axisymmetry_is_refused() -> None:
     data = footing()
     data["simulation"]["formulation"] = "axisymmetric"

@@ -4,7 +4,8 @@
 //! `cargo run --release --example bench_step -- SCHEME FORMULATION THREADS STEPS [WARMUP] [CELL] [MATERIAL]`
 //!
 //! MATERIAL: `mohr_coulomb` (default) or `linear_elastic` (the column of `axmpm bench
-//! --material linear_elastic` and of `benches/peer_taichi.py`: E = 1 MPa, ν = 0.3).
+//! --material linear_elastic` and of `benches/peer_taichi.py`: E = 1 MPa, ν = 0.3), or
+//! `saturated_mohr_coulomb` (the granular column as a saturated two-phase body).
 //!
 //! Prints the throughput, a hash of every particle array after the run (equal hashes =
 //! bit-for-bit equal results) and the serial fraction: the share of the timed wall time spent in

@@ -775,24 +775,38 @@ pub const FOLLOW_IS_EXPERIMENTAL: &str = "the moving grid is experimental (measu
     smooth footings converge, but rough bodies and FLIP 0.999 became unstable at B/h = 40; \
     docs/studies/contact-remedies.md): set grid.experimental = true to use it";
 
-/// `grid.follow`: a rigid body of the run, and nothing else tied to fixed node rows (a wall's
-/// nodes, the drainage faces of saturated soil, a non-local material's cell boundaries are
-/// found once, on the grid as built).
+/// What `grid.follow = follow` is refused for, from what the configuration says: it must name
+/// one of `rigid_bodies`, need `experimental`, and nothing else may be tied to fixed node rows
+/// (`walls`: a wall's nodes; `saturated`: the drainage faces of saturated soil). A non-local
+/// material's fixed cell boundaries are the material registry's to refuse
+/// (`crate::material::NONLOCAL_MODELS`). One message per refusal, without the key; the front
+/// end shows them all (`axmpm check`), the engine the first.
+pub fn follow_errors(follow: &str, experimental: bool, rigid_bodies: &[&str], walls: usize, saturated: bool) -> Vec<String> {
+    let mut errors = Vec::new();
+    if !experimental {
+        errors.push(FOLLOW_IS_EXPERIMENTAL.to_string());
+    }
+    if !rigid_bodies.contains(&follow) {
+        let names: Vec<String> = rigid_bodies.iter().map(|n| format!("'{n}'")).collect();
+        let names = if names.is_empty() { "there is none".to_string() } else { names.join(", ") };
+        errors.push(format!("must name a rigid body ({names}) (got '{follow}')"));
+    }
+    if walls > 0 {
+        errors.push("cannot be combined with walls (a wall's nodes are fixed): use the grid's faces".into());
+    }
+    if saturated {
+        errors.push("cannot be combined with saturated bodies (their drainage faces are fixed rows)".into());
+    }
+    errors
+}
+
 fn validate_follow(config: &Config, name: &str) -> Result<(), String> {
-    if !config.grid.experimental {
-        return Err(format!("grid.follow: {FOLLOW_IS_EXPERIMENTAL}"));
+    let names: Vec<&str> = config.rigid_bodies.iter().map(|b| b.name.as_str()).collect();
+    let saturated = config.bodies.iter().any(|b| b.saturated.is_some());
+    match follow_errors(name, config.grid.experimental, &names, config.walls.len(), saturated).first() {
+        Some(error) => Err(format!("grid.follow: {error}")),
+        None => Ok(()),
     }
-    if !config.rigid_bodies.iter().any(|b| b.name == name) {
-        let names: Vec<&str> = config.rigid_bodies.iter().map(|b| b.name.as_str()).collect();
-        return Err(format!("grid.follow: no rigid body named '{name}' (rigid bodies: {names:?})"));
-    }
-    if !config.walls.is_empty() {
-        return Err("grid.follow cannot be combined with walls (a wall's nodes are fixed): use the grid's faces".into());
-    }
-    if config.bodies.iter().any(|b| b.saturated.is_some()) {
-        return Err("grid.follow cannot be combined with saturated bodies (their drainage faces are fixed rows)".into());
-    }
-    Ok(())
 }
 
 fn validate_saturated(config: &Config) -> Result<(), String> {

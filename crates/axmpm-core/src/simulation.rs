@@ -310,15 +310,8 @@ impl Simulation {
         } else {
             dt
         };
-        let follow = match &g.follow {
-            Some(name) => Some(
-                constraints
-                    .rigid_bodies()
-                    .position(|b| crate::constraint::Constraint::name(b) == name.as_str())
-                    .ok_or_else(|| format!("grid.follow: no rigid body named '{name}'"))?,
-            ),
-            None => None,
-        };
+        // The followed body's index among the rigid bodies (`validate_follow` made sure it exists).
+        let follow = constraints.rigid_bodies().position(crate::constraint::RigidBody::is_followed_by_the_grid);
         let water = solver::saturated::WaterState::new(&config, &step_grid, &particles);
         let surcharge_totals = match s.formulation {
             FormulationKind::PlaneStrain => crate::setup::surcharge_forces::<PlaneStrain>(&config, &particles),
@@ -346,7 +339,7 @@ impl Simulation {
             crate::material::FluidityBoundary::new(&step_grid, &config.boundaries, &config.walls, axisymmetric)
         });
         if follow.is_some() && state.scratch.cell_laplacian.is_some() {
-            return Err("grid.follow cannot be combined with a non-local material (its cell boundaries are fixed)".into());
+            return Err(format!("grid.follow: {}", crate::material::FOLLOW_WITH_NONLOCAL));
         }
         // threads = 0: as many cores as the problem can use. Below ~10,000 particles per thread
         // the fork/join of each pass costs more than it saves. Results do not depend on it.

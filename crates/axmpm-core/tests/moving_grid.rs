@@ -187,3 +187,21 @@ fn a_followed_body_does_not_drag_the_material_beside_its_vertex() {
     eprintln!("beside the vertex: settlement {dragged:.3} of the footing's");
     assert!(dragged < -0.4, "the material beside the vertex settled {dragged:.3} of the footing's settlement");
 }
+
+/// `grid.follow`'s refusals: each one exactly when its condition holds, all of them together.
+#[test]
+fn each_refusal_of_a_moving_grid_holds_exactly_when_its_condition_does() {
+    use axmpm_core::config::follow_errors;
+    let bodies = ["cone", "rod"];
+    assert!(follow_errors("rod", true, &bodies, 0, false).is_empty());
+    let only = |errors: Vec<String>, text: &str| {
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert!(errors[0].contains(text), "{errors:?}");
+    };
+    only(follow_errors("rod", false, &bodies, 0, false), "set grid.experimental = true");
+    only(follow_errors("pile", true, &bodies, 0, false), "must name a rigid body ('cone', 'rod') (got 'pile')");
+    only(follow_errors("pile", true, &[], 0, false), "must name a rigid body (there is none)");
+    only(follow_errors("rod", true, &bodies, 1, false), "cannot be combined with walls");
+    only(follow_errors("rod", true, &bodies, 0, true), "cannot be combined with saturated bodies");
+    assert_eq!(follow_errors("pile", false, &bodies, 2, true).len(), 4);
+}

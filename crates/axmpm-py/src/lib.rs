@@ -328,6 +328,26 @@ fn rigid_body_errors(
     Ok(rigid_body::errors(&tables, grid_lower, grid_upper, axisymmetric, end_time, &reserved))
 }
 
+/// follow_errors(follow, experimental, rigid_body_names, wall_count, saturated, material_models)
+/// -> [message]: the engine's refusals of `grid.follow` (config and material registry), every
+/// one, for the scenario front end.
+#[pyfunction]
+fn follow_errors(
+    follow: &str,
+    experimental: bool,
+    rigid_body_names: Vec<String>,
+    wall_count: usize,
+    saturated: bool,
+    material_models: Vec<String>,
+) -> Vec<String> {
+    let names: Vec<&str> = rigid_body_names.iter().map(String::as_str).collect();
+    let mut errors = axmpm_core::config::follow_errors(follow, experimental, &names, wall_count, saturated);
+    if material_models.iter().any(|m| axmpm_core::material::NONLOCAL_MODELS.contains(&m.as_str())) {
+        errors.push(axmpm_core::material::FOLLOW_WITH_NONLOCAL.to_string());
+    }
+    errors
+}
+
 /// reserved_names(wall_count) -> [name]: the names the grid faces, the axis and the walls
 /// report their reactions under (a rigid body may not take one).
 #[pyfunction]
@@ -363,7 +383,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(material_key_errors, m)?)?;
     m.add_function(wrap_pyfunction!(rigid_body_errors, m)?)?;
     m.add_function(wrap_pyfunction!(reserved_names, m)?)?;
-    m.add("FOLLOW_IS_EXPERIMENTAL", axmpm_core::config::FOLLOW_IS_EXPERIMENTAL)?;
+    m.add_function(wrap_pyfunction!(follow_errors, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -286,21 +286,16 @@ def _follow_errors(
     walls: list[Wall | None] | None,
     rigid_bodies: list[Any | None] | None,
 ) -> list[tuple[str, str]]:
-    """``grid.follow``: a rigid body's name, and nothing tied to fixed node rows."""
-    errors: list[tuple[str, str]] = []
-    if not experimental:
-        errors.append(("grid.follow", core().FOLLOW_IS_EXPERIMENTAL))
+    """``grid.follow``: the engine's refusals (a rigid body's name, ``experimental``, nothing tied
+    to fixed node rows), every one."""
     names = [b.name for b in rigid_bodies or [] if b is not None]
-    if rigid_bodies is not None and None not in rigid_bodies and follow not in names:
-        errors.append(("grid.follow", f"must name a rigid body ({', '.join(map(repr, names)) or 'there is none'}) "
-                       f"(got {follow!r})"))
-    if walls:
-        errors.append(("grid.follow", "cannot be combined with walls (their nodes are fixed): use the grid's faces"))
-    if any(b is not None and b.saturated is not None for b in bodies or []):
-        errors.append(("grid.follow", "cannot be combined with saturated bodies (their drainage faces are fixed rows)"))
-    if any(m is not None and m.model == "granular_fluidity" for m in (materials or {}).values()):
-        errors.append(("grid.follow", "cannot be combined with granular_fluidity materials (fixed cell boundaries)"))
-    return errors
+    if rigid_bodies is None or None in rigid_bodies:
+        names.append(follow)  # a rigid body left out by its own error: not refused twice
+    saturated = any(b is not None and b.saturated is not None for b in bodies or [])
+    used = {b.material for b in bodies or [] if b is not None}
+    models = [m.model for name, m in (materials or {}).items() if m is not None and name in used]
+    messages = core().follow_errors(follow, experimental, names, len(walls or []), saturated, models)
+    return [("grid.follow", message) for message in messages]
 
 
 def _validate_part(adapter: Any, value: Any) -> Any:

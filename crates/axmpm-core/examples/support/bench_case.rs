@@ -4,14 +4,21 @@ use axmpm_core::Simulation;
 
 /// The `axmpm bench` column: a granular column (`mohr_coulomb`, φ = 25°) or an elastic one
 /// (`linear_elastic`, E = 1 MPa, ν = 0.3) collapsing under gravity on a rough base, 2 × 2
-/// particles per cell, as JSON for `Simulation::from_json`.
+/// particles per cell, as JSON for `Simulation::from_json`. `saturated_mohr_coulomb` is the
+/// granular column as a saturated two-phase body (n = 0.4, k = 1e-4 m/s, water at rest
+/// below a table at the column's top): the cost of the two-phase step against the dry one.
 pub fn scenario(formulation: &str, scheme: &str, cell: f64, material: &str) -> String {
-    let sand = match material {
-        "mohr_coulomb" => r#"{"model": "mohr_coulomb", "density": 1550.0, "youngs_modulus": 1.0e6,
+    const MOHR_COULOMB: &str = r#"{"model": "mohr_coulomb", "density": 1550.0, "youngs_modulus": 1.0e6,
     "poisson_ratio": 0.3, "friction_angle": 25.0, "dilation_angle": 0.0, "cohesion": 0.0,
-    "tension_cutoff": 0.0}"#,
-        "linear_elastic" => r#"{"model": "linear_elastic", "density": 1550.0, "youngs_modulus": 1.0e6, "poisson_ratio": 0.3}"#,
-        other => panic!("MATERIAL must be mohr_coulomb or linear_elastic (got {other})"),
+    "tension_cutoff": 0.0}"#;
+    let (sand, water) = match material {
+        "mohr_coulomb" => (MOHR_COULOMB, ""),
+        "linear_elastic" => (r#"{"model": "linear_elastic", "density": 1550.0, "youngs_modulus": 1.0e6, "poisson_ratio": 0.3}"#, ""),
+        "saturated_mohr_coulomb" => (
+            MOHR_COULOMB,
+            r#", "saturated": {"porosity": 0.4, "hydraulic_conductivity": 1.0e-4, "water_table": 0.125}"#,
+        ),
+        other => panic!("MATERIAL must be mohr_coulomb, linear_elastic or saturated_mohr_coulomb (got {other})"),
     };
     format!(
         r#"{{
@@ -21,7 +28,7 @@ pub fn scenario(formulation: &str, scheme: &str, cell: f64, material: &str) -> S
   "grid": {{"origin": [0.0, 0.0], "extent": [0.4, 0.15], "cell_size": {cell}}},
   "materials": {{"sand": {sand}}},
   "bodies": [{{"material": "sand", "shape": "rectangle", "min": [0.0, 0.0], "max": [0.1, 0.125],
-    "particles_per_cell": 2, "velocity": [0.0, 0.0], "initial_stress": "geostatic"}}],
+    "particles_per_cell": 2, "velocity": [0.0, 0.0], "initial_stress": "geostatic"{water}}}],
   "boundaries": {{"left": {{"condition": "roller", "coefficient": 0.0}},
     "right": {{"condition": "free", "coefficient": 0.0}},
     "bottom": {{"condition": "friction", "coefficient": 0.466}},

@@ -839,6 +839,11 @@ impl RigidBody {
         self
     }
 
+    /// Whether the grid follows this body (`grid.follow`).
+    pub fn is_followed_by_the_grid(&self) -> bool {
+        self.followed
+    }
+
     /// Sets the stiffness k (Pa/m) of a penalty contact (no effect on a nodal one).
     pub fn with_penalty_stiffness(mut self, stiffness: f64) -> Self {
         if let Enforcement::Penalty(_) = self.enforcement {

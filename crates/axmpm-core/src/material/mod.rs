@@ -357,6 +357,13 @@ pub const MODELS: &[(&str, ModelBuilder)] = &[
     ("drucker_prager", drucker_prager::build),
 ];
 
+/// The models that ask the solver for a cell field (`Material::cell_field`): their cell
+/// boundaries are fixed, so a moving grid (`grid.follow`) is refused with them.
+pub const NONLOCAL_MODELS: &[&str] = &["granular_fluidity"];
+
+/// Why `grid.follow` is refused with a material of [`NONLOCAL_MODELS`].
+pub const FOLLOW_WITH_NONLOCAL: &str = "cannot be combined with a non-local material (its cell boundaries are fixed)";
+
 /// Names of the registered models, in registry order.
 pub fn model_names() -> Vec<&'static str> {
     MODELS.iter().map(|(name, _)| *name).collect()
@@ -421,7 +428,7 @@ mod tests {
             assert_eq!(m.model(), name);
             assert_eq!(m.density(), 1550.0);
             // Only the nonlocal model asks the solver for a cell field.
-            assert_eq!(m.cell_field().is_some(), name == "granular_fluidity", "{name}");
+            assert_eq!(m.cell_field().is_some(), NONLOCAL_MODELS.contains(&name), "{name}");
         }
         config.model = "cam_clay".into();
         assert_eq!(

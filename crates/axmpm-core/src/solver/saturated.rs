@@ -351,10 +351,22 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
     let particles = &state.particles;
     let order = &mut state.tiles;
     let caches = Shared::new(cache);
+    let isa = state.parameters.isa;
     let (mut reached, mut serial) = scatter_by_colour(order, |tile, overflow| {
         // SAFETY: as in the dry `particle_to_grid` (disjoint tiles and zones of one colour).
         let cache = unsafe { caches.slice(tile.range()) };
-        unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, overflow) }
+        // `overflow` a constant at each call site, as in the dry scatter.
+        if overflow {
+            isa.run(
+                #[inline(always)]
+                || unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, true) },
+            )
+        } else {
+            isa.run(
+                #[inline(always)]
+                || unsafe { scatter::<F, S>(&grid, gravity, rho_w, particles, tile.range(), tile.zone(), cache, targets, false) },
+            )
+        }
     });
     if water.loaded {
         let serial_start = std::time::Instant::now();
@@ -375,6 +387,7 @@ fn particle_to_grid<F: Formulation, S: ShapeFunction>(state: &mut State, gravity
 /// `particle_to_grid::scatter` for `zone` and `overflow`).
 /// SAFETY: no other thread writes to the nodes this call writes to.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 unsafe fn scatter<F: Formulation, S: ShapeFunction>(
     grid: &GridGeometry,
     gravity: [f64; 2],
@@ -667,6 +680,7 @@ const WATER_CHUNK: usize = 512;
 fn water_to_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, cache: &[S::Cache]) {
     let grid = state.grid;
     let flip = state.parameters.flip_fraction;
+    let isa = state.parameters.isa;
     let water = state.water.as_mut().expect("a saturated run has its water");
     let (w_new, w_old) = (&water.velocity_new, &water.velocity);
     let particles = &mut state.particles;
@@ -683,40 +697,46 @@ fn water_to_particles<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f
         .zip(water.water_dilatation.par_chunks_mut(WATER_CHUNK))
         .enumerate()
         .for_each(|(chunk, (velocity, dilatation))| {
-            for (i, (w_p, div)) in velocity.iter_mut().zip(dilatation.iter_mut()).enumerate() {
-                let p = chunk * WATER_CHUNK + i;
-                if porosity[p] <= 0.0 {
-                    *div = 0.0;
-                    continue;
-                }
-                let domain = ParticleDomain {
-                    position: position[p],
-                    initial_half_width: half[p],
-                    deformation_gradient: &f[p],
-                    corners: corners.get(p),
-                };
-                let mut w_grid = [0.0; 2];
-                let mut dw = [0.0; 2];
-                let mut divergence = 0.0;
-                let mut radial = 0.0;
-                S::visit_entries(&grid, &cache[p], &domain, F::AXISYMMETRIC, |node, s, g| {
-                    let (wn, wo) = (w_new[node], w_old[node]);
-                    w_grid[0] += s * wn[0];
-                    w_grid[1] += s * wn[1];
-                    dw[0] += s * (wn[0] - wo[0]);
-                    dw[1] += s * (wn[1] - wo[1]);
-                    divergence += wn[0] * g[0] + wn[1] * g[1];
-                    radial += s * wn[0];
-                });
-                if F::AXISYMMETRIC {
-                    divergence += radial * F::hoop_factor(domain.position);
-                }
-                *w_p = [
-                    flip * (w_p[0] + dw[0]) + (1.0 - flip) * w_grid[0],
-                    flip * (w_p[1] + dw[1]) + (1.0 - flip) * w_grid[1],
-                ];
-                *div = dt * divergence;
-            }
+            // The chunk's loop compiled for the instruction set chosen (`solver::isa`).
+            isa.run(
+                #[inline(always)]
+                || {
+                    for (i, (w_p, div)) in velocity.iter_mut().zip(dilatation.iter_mut()).enumerate() {
+                        let p = chunk * WATER_CHUNK + i;
+                        if porosity[p] <= 0.0 {
+                            *div = 0.0;
+                            continue;
+                        }
+                        let domain = ParticleDomain {
+                            position: position[p],
+                            initial_half_width: half[p],
+                            deformation_gradient: &f[p],
+                            corners: corners.get(p),
+                        };
+                        let mut w_grid = [0.0; 2];
+                        let mut dw = [0.0; 2];
+                        let mut divergence = 0.0;
+                        let mut radial = 0.0;
+                        S::visit_entries(&grid, &cache[p], &domain, F::AXISYMMETRIC, |node, s, g| {
+                            let (wn, wo) = (w_new[node], w_old[node]);
+                            w_grid[0] += s * wn[0];
+                            w_grid[1] += s * wn[1];
+                            dw[0] += s * (wn[0] - wo[0]);
+                            dw[1] += s * (wn[1] - wo[1]);
+                            divergence += wn[0] * g[0] + wn[1] * g[1];
+                            radial += s * wn[0];
+                        });
+                        if F::AXISYMMETRIC {
+                            divergence += radial * F::hoop_factor(domain.position);
+                        }
+                        *w_p = [
+                            flip * (w_p[0] + dw[0]) + (1.0 - flip) * w_grid[0],
+                            flip * (w_p[1] + dw[1]) + (1.0 - flip) * w_grid[1],
+                        ];
+                        *div = dt * divergence;
+                    }
+                },
+            )
         });
 }
 
@@ -731,32 +751,41 @@ fn update_pore_pressure(state: &mut State) -> Result<(), Failure> {
     // Storage rate e = (1 − n) Δε_s + n Δt ∇·w per particle (in `water_dilatation`), then its
     // V-weighted mean per cell (one thread, in array order: deterministic).
     let serial_start = std::time::Instant::now();
+    let isa = state.parameters.isa;
     water.cell_volume.fill(0.0);
     water.cell_storage.fill(0.0);
-    for p in 0..particles.len() {
-        let n = particles.porosity[p];
-        if n <= 0.0 {
-            continue;
-        }
-        let solid_strain = (particles.volume[p] / water.volume_before[p]).ln();
-        let e = storage_strain(n, solid_strain, water.water_dilatation[p]);
-        water.water_dilatation[p] = e;
-        let cell = grid.cell_index(particles.position[p]);
-        water.cell_volume[cell] += particles.volume[p];
-        water.cell_storage[cell] += particles.volume[p] * e;
-    }
-    let mut outflow = 0.0;
-    for p in 0..particles.len() {
-        let n = particles.porosity[p];
-        if n <= 0.0 {
-            continue;
-        }
-        let cell = grid.cell_index(particles.position[p]);
-        let e = water.cell_storage[cell] / water.cell_volume[cell];
-        particles.pore_pressure[p] += pressure_increment(k_w, n, e);
-        particles.porosity[p] = updated_porosity(n, water.volume_before[p], particles.volume[p]);
-        outflow += outflow_increment(water.volume_before[p], particles.volume[p], e);
-    }
+    // Both loops compiled for the instruction set chosen (`solver::isa`: the cell index's floor
+    // is then one instruction, not a library call).
+    let outflow = isa.run(
+        #[inline(always)]
+        || {
+            for p in 0..particles.len() {
+                let n = particles.porosity[p];
+                if n <= 0.0 {
+                    continue;
+                }
+                let solid_strain = (particles.volume[p] / water.volume_before[p]).ln();
+                let e = storage_strain(n, solid_strain, water.water_dilatation[p]);
+                water.water_dilatation[p] = e;
+                let cell = grid.cell_index(particles.position[p]);
+                water.cell_volume[cell] += particles.volume[p];
+                water.cell_storage[cell] += particles.volume[p] * e;
+            }
+            let mut outflow = 0.0;
+            for p in 0..particles.len() {
+                let n = particles.porosity[p];
+                if n <= 0.0 {
+                    continue;
+                }
+                let cell = grid.cell_index(particles.position[p]);
+                let e = water.cell_storage[cell] / water.cell_volume[cell];
+                particles.pore_pressure[p] += pressure_increment(k_w, n, e);
+                particles.porosity[p] = updated_porosity(n, water.volume_before[p], particles.volume[p]);
+                outflow += outflow_increment(water.volume_before[p], particles.volume[p], e);
+            }
+            outflow
+        },
+    );
     water.outflow += outflow;
     state.timings.serial += serial_start.elapsed().as_secs_f64();
     match particles.pore_pressure.iter().position(|p| !p.is_finite()) {

@@ -84,3 +84,21 @@ def pressure(x_ratio: float, time_factor: np.ndarray | float, material: MandelMa
 def centre_pressure(time_factor: np.ndarray | float, material: MandelMaterial) -> np.ndarray:
     """p/p₀ at the centre x = 0."""
     return pressure(0.0, time_factor, material)
+
+
+def field_errors(positions: np.ndarray, pore_pressure: np.ndarray, cell_size: float, half_width: float,
+                 time_factor: float, material: MandelMaterial, p0: float) -> tuple[float, float]:
+    """The pressure field of one frame against the closed form, per background cell (the
+    storage strain is averaged per cell, so the cell is the pressure's unit): the worst
+    |⟨p⟩_cell − p_exact(x_cell)|/p₀ over the cells, with x_cell the cell's centre, and the
+    largest spread (max − min)/p₀ of ⟨p⟩_cell down one column of cells, where the exact field
+    does not change (p depends on x only): a checkerboard would show there."""
+    x = np.asarray(positions, dtype=float)
+    p = np.asarray(pore_pressure, dtype=float)
+    i = np.floor(x[:, 0] / cell_size).astype(int)
+    j = np.floor(x[:, 1] / cell_size).astype(int)
+    cells = np.unique(np.stack([i, j], axis=1), axis=0)
+    means = np.array([p[(i == ci) & (j == cj)].mean() for ci, cj in cells]) / p0
+    exact = np.array([pressure((ci + 0.5) * cell_size / half_width, time_factor, material)[0] for ci, _ in cells])
+    spread = max(float(np.ptp(means[cells[:, 0] == ci])) for ci in np.unique(cells[:, 0]))
+    return float(np.max(np.abs(means - exact))), spread
