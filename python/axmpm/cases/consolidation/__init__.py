@@ -1,7 +1,8 @@
 """``consolidation``: Terzaghi's one-dimensional consolidation of a saturated column, in plane
-strain and in axisymmetry, against the series solution (:mod:`.exact`), and Mandel's problem in
-plane strain (:mod:`.mandel`, :func:`mandel_scenario`: the centre's pressure against the closed
-form, its rise above p₀ included) (docs/verification.md "Consolidation").
+strain and in axisymmetry, against the series solution (:mod:`.exact`), Mandel's problem in
+plane strain (:mod:`.mandel`, :func:`mandel_scenario`), and Cryer's sphere and de Leeuw's
+cylinder in axisymmetry (:mod:`.radial`, :func:`radial_scenario`): the centre's pressure against
+the closed forms, its rise above p₀ included (docs/verification.md "Consolidation").
 
 Scenario (:func:`column_scenario`): a column H = 1 m high and one cell wide of a linear elastic
 skeleton (E = 10 MPa, ν = 0, so E_oed = E; grains 2650 kg/m³) saturated with water (n = 0.4,
@@ -90,6 +91,31 @@ MANDEL_FROM_TIME_FACTOR = 0.05
 CHECKERBOARD_TOLERANCE = 0.01
 
 
+#: Cryer's sphere and de Leeuw's cylinder (:mod:`.radial`), radius R, R/h cells across, set up as
+#: the drained-surface perturbation of docs/physics.md §10: free, drained surface, initial pore
+#: pressure p₀ and effective stress of the undrained-minus-drained state under LOAD, no load.
+RADIAL_RADIUS = 1.0
+RADIAL_SHAPES = ("sphere", "cylinder")
+RADIAL_NAMES = {"sphere": "cryer", "cylinder": "deleeuw"}
+RADIAL_TITLES = {"sphere": "Cryer's sphere", "cylinder": "de Leeuw's cylinder"}
+RADIAL_MESHES = (10, 20)
+QUICK_RADIAL_MESHES = (10,)
+#: The cylinder is a slab of this many cells between its two roller plates.
+CYLINDER_CELLS_HIGH = 2
+#: Chords of the sphere's quarter circle (the polygon body; particles fill it by their centres).
+SPHERE_CHORDS = 90
+#: History rows every ΔT = 0.005 (T = c t/R²) up to T = 0.5 (0.15 in the quick run, past the peak
+#: at T ≈ 0.06).
+RADIAL_ROW_TIME_FACTOR = 0.005
+RADIAL_END_TIME_FACTOR = 0.5
+QUICK_RADIAL_END_TIME_FACTOR = 0.15
+#: k of the radial runs, as Mandel's: R²/c = 9.8 s.
+RADIAL_CONDUCTIVITY = 1.0e-4
+#: The centre's pressure within 5 % of p₀ at every row from T = RADIAL_FROM_TIME_FACTOR on.
+RADIAL_TOLERANCE = 0.05
+RADIAL_FROM_TIME_FACTOR = 0.01
+
+
 def _saturated_block(formulation: str, end_time: float, output_interval: float, h: float, extent: list[float],
                      name: str, lo: list[float], hi: list[float], conductivity: float,
                      water_bulk_modulus: float) -> dict[str, Any]:
@@ -138,42 +164,124 @@ def mandel_scenario(cells: int, conductivity: float, end_time_factor: float = MA
     return Scenario.from_dict(data, source=f"consolidation mandel_n{cells:02d}")
 
 
-def mandel_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
-    """The centre's pressure against Mandel's closed form at every history row from
-    MANDEL_FROM_TIME_FACTOR on: the worst |p − p_exact|/p₀, the peak p/p₀ of both (over those rows)."""
+def _centre_metrics(run_dir: Path, time_scale: float, p0: float, exact_centre: Any, from_time_factor: float,
+                    error_key: str) -> dict[str, Any]:
+    """The probe ``centre``'s pore pressure against a closed form ``exact_centre(T)`` (p/p₀ at
+    T = t/``time_scale``) at every history row from ``from_time_factor`` on: the worst
+    |p − p_exact|/p₀ (under ``error_key``), the peak p/p₀ of both and its T (over those rows)."""
     import numpy as np
 
     from ...run.output import load_run
+
+    try:
+        history = load_run(run_dir).history
+        t = np.asarray(history["time"]) / time_scale
+        p = np.asarray(history["centre.pore_pressure"]) / p0
+    except Exception:  # noqa: BLE001 - a failed run without history
+        return {error_key: None, "p0": p0}
+    if len(t) < 3:
+        return {error_key: None, "p0": p0}
+    later = t >= from_time_factor
+    t, p = t[later], p[later]
+    exact_p = exact_centre(t)
+    return {"p0": p0, error_key: float(np.max(np.abs(p - exact_p))),
+            "peak": float(p.max()), "peak_exact": float(exact_p.max()),
+            "peak_time_factor": float(t[int(np.argmax(p))])}
+
+
+def mandel_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
+    """The centre's pressure against Mandel's closed form at every history row from
+    MANDEL_FROM_TIME_FACTOR on: the worst |p − p_exact|/p₀, the peak p/p₀ of both (over those rows)."""
     from . import mandel
 
     material = mandel_material(run.params["conductivity"])
-    p0 = material.initial_pressure(LOAD)
-    try:
-        run_output = load_run(run_dir)
-        history = run_output.history
-        t = np.asarray(history["time"]) * material.consolidation_coefficient / MANDEL_HALF_WIDTH**2
-        p = np.asarray(history["centre.pore_pressure"]) / p0
-    except Exception:  # noqa: BLE001 - a failed run without history
-        return {"mandel_error": None, "p0": p0}
-    if len(t) < 3:
-        return {"mandel_error": None, "p0": p0}
-    exact_p = mandel.centre_pressure(t, material)
-    later = t >= MANDEL_FROM_TIME_FACTOR
-    t, p, exact_p = t[later], p[later], exact_p[later]
+    out = _centre_metrics(run_dir, MANDEL_HALF_WIDTH**2 / material.consolidation_coefficient,
+                          material.initial_pressure(LOAD), lambda t: mandel.centre_pressure(t, material),
+                          MANDEL_FROM_TIME_FACTOR, "mandel_error")
+    if out["mandel_error"] is None:
+        return out
+    import numpy as np
+
+    from ...run.output import load_run
+
+    p0 = out["p0"]
+    run_output = load_run(run_dir)
     h = MANDEL_HALF_WIDTH / run.params["cells"]
     field = [mandel.field_errors(frame.x, frame.pore_pressure, h, MANDEL_HALF_WIDTH, time_factor, material, p0)
              for time_factor, frame in zip(np.asarray(run_output.times) * material.consolidation_coefficient
                                            / MANDEL_HALF_WIDTH**2, run_output.frames)
              if time_factor >= MANDEL_FROM_TIME_FACTOR]
-    return {"p0": p0, "mandel_error": float(np.max(np.abs(p - exact_p))),
-            "peak": float(p.max()), "peak_exact": float(exact_p.max()),
-            "peak_time_factor": float(t[int(np.argmax(p))]), "cell_size": h,
-            "field_error": max((f[0] for f in field), default=None),
-            "column_spread": max((f[1] for f in field), default=None)}
+    out.update({"cell_size": h, "field_error": max((f[0] for f in field), default=None),
+                "column_spread": max((f[1] for f in field), default=None)})
+    return out
+
+
+def radial_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
+    """The centre's pressure of Cryer's sphere or de Leeuw's cylinder against its closed form at
+    every history row from RADIAL_FROM_TIME_FACTOR on (:func:`_centre_metrics`)."""
+    from . import radial
+
+    shape = run.params["shape"]
+    material = mandel_material(run.params["conductivity"])
+    out = _centre_metrics(run_dir, RADIAL_RADIUS**2 / material.consolidation_coefficient,
+                          radial.initial_pressure(shape, LOAD, material),
+                          lambda t: radial.centre_pressure(shape, t, material), RADIAL_FROM_TIME_FACTOR,
+                          "centre_error")
+    if out["centre_error"] is not None:
+        out["cell_size"] = RADIAL_RADIUS / run.params["cells"]
+    return out
+
+
+def radial_scenario(shape: str, cells: int, conductivity: float, end_time_factor: float = RADIAL_END_TIME_FACTOR,
+                    *, as_dict: bool = False) -> Any:
+    """Cryer's sphere (``shape = "sphere"``) or de Leeuw's cylinder (``"cylinder"``) in
+    axisymmetry, as the perturbation of its drained final state (docs/physics.md §10): no load,
+    the surface r = R free and drained, the initial pore pressure p₀ and effective stress of
+    :func:`.radial.initial_effective_stress`; the axis a roller (impermeable). Sphere: the quarter
+    disc r, z ≥ 0 (a polygon of SPHERE_CHORDS chords), the plane z = 0 a roller (impermeable, the
+    plane of symmetry). Cylinder: a slab 0 ≤ z ≤ CYLINDER_CELLS_HIGH h between the roller faces
+    z = 0 and the top of the grid (impermeable). The probe ``centre`` sits at the origin."""
+    from . import radial
+
+    r = RADIAL_RADIUS
+    h = r / cells
+    material = mandel_material(conductivity)
+    time_scale = r * r / material.consolidation_coefficient
+    height = r if shape == radial.SPHERE else CYLINDER_CELLS_HIGH * h
+    grid_height = r + 2 * h if shape == radial.SPHERE else height
+    data = _saturated_block("axisymmetric", end_time_factor * time_scale, 0.1 * time_scale, h,
+                            [r + 2 * h, grid_height], shape, [0.0, 0.0], [r, height], conductivity,
+                            WATER_BULK_MODULUS)
+    data["simulation"]["history_interval"] = RADIAL_ROW_TIME_FACTOR * time_scale
+    body = data["bodies"][0]
+    saturated = body["saturated"]
+    del saturated["surface_load"]
+    saturated["pore_pressure"] = radial.initial_pressure(shape, LOAD, material)
+    rr, zz, hoop = radial.initial_effective_stress(shape, LOAD, material)
+    body["initial_stress"] = {"xx": rr, "yy": zz, "zz": hoop, "xy": 0.0}
+    if shape == radial.SPHERE:
+        del body["min"], body["max"]
+        arc = [[r * math.cos(a), r * math.sin(a)]
+               for a in (0.5 * math.pi * i / SPHERE_CHORDS for i in range(SPHERE_CHORDS + 1))]
+        body.update({"shape": "polygon", "vertices": [[0.0, 0.0]] + arc})
+        data["boundaries"] = {"left": "roller", "right": "free", "bottom": "roller", "top": "free"}
+    else:
+        data["boundaries"] = {"left": "roller", "right": "free", "bottom": "roller", "top": "roller"}
+    data["probes"] = [{"name": "centre", "point": [0.0, 0.0]}]
+    if as_dict:
+        return data
+    from ...scenario import Scenario
+
+    return Scenario.from_dict(data, source=f"consolidation {shape}_n{cells:02d}")
 
 
 def run_name(formulation: str, cells: int) -> str:
     return f"{formulation}_n{cells:02d}"
+
+
+def radial_run_name(shape: str, cells: int) -> str:
+    """``cryer_nNN`` (the sphere) or ``deleeuw_nNN`` (the cylinder)."""
+    return f"{RADIAL_NAMES[shape]}_n{cells:02d}"
 
 
 def run_specs(quick: bool = False) -> list[RunSpec]:
@@ -185,6 +293,9 @@ def run_specs(quick: bool = False) -> list[RunSpec]:
     runs += [RunSpec(f"mandel_n{n:02d}", {"formulation": "plane_strain", "cells": n, "kind": "mandel",
                                           "conductivity": MANDEL_CONDUCTIVITY, "quick": quick})
              for n in (QUICK_MANDEL_MESHES if quick else MANDEL_MESHES)]
+    runs += [RunSpec(radial_run_name(shape, n), {"formulation": "axisymmetric", "cells": n, "kind": "radial",
+                                                 "shape": shape, "conductivity": RADIAL_CONDUCTIVITY, "quick": quick})
+             for shape in RADIAL_SHAPES for n in (QUICK_RADIAL_MESHES if quick else RADIAL_MESHES)]
     return runs
 
 
@@ -250,6 +361,8 @@ def run_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
     kind = run.params["kind"]
     if kind == "mandel":
         return mandel_metrics(run, run_dir)
+    if kind == "radial":
+        return radial_metrics(run, run_dir)
     k_w = water(kind)[1]
     u0 = exact.undrained_pressure(LOAD, POROSITY, k_w, OEDOMETER_MODULUS)
     try:
@@ -294,19 +407,35 @@ def run_metrics(run: RunSpec, run_dir: Path) -> dict[str, Any]:
     return out
 
 
+def _centre_checks(r: dict[str, Any], what: str, error_key: str, tolerance: float) -> list[dict[str, Any]]:
+    """The two checks of a centre-pressure run: ``what`` (within ``tolerance`` p₀ from a stated
+    time on) and the rise above p₀."""
+    e = r.get(error_key)
+    peak = r.get("peak")
+    return [{"name": f"{r['run']}: {what}", "passed": e is not None and e <= tolerance,
+             "detail": f"max |Δp|/p₀ = {fmt(e, '.4f')}"},
+            {"name": f"{r['run']}: the centre's pressure rises above p₀ (Mandel–Cryer effect)",
+             "passed": peak is not None and peak > 1.0,
+             "detail": f"peak p/p₀ = {fmt(peak, '.4f')} (closed form {fmt(r.get('peak_exact'), '.4f')})"}]
+
+
+def _mesh_check(name: str, group: list[dict[str, Any]], error_key: str, size: str) -> list[dict[str, Any]]:
+    """``name``: the error of the finest run of ``group`` below the coarsest's (none without two
+    runs with errors)."""
+    group = sorted(group, key=lambda r: r["cells"])
+    errors = [r.get(error_key) for r in group]
+    if len(group) < 2 or None in errors:
+        return []
+    return [{"name": name, "passed": errors[-1] < errors[0],
+             "detail": ", ".join(f"{size} = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))}]
+
+
 def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[dict[str, Any]]:
     checks: list[dict[str, Any]] = []
     for r in results:
         if r.get("kind") == "mandel":
-            e = r.get("mandel_error")
-            checks.append({"name": f"{r['run']}: Mandel's centre pressure within {MANDEL_TOLERANCE} p₀ "
-                                   f"from c t/a² = {MANDEL_FROM_TIME_FACTOR:g}",
-                           "passed": e is not None and e <= MANDEL_TOLERANCE,
-                           "detail": f"max |Δp|/p₀ = {fmt(e, '.4f')}"})
-            peak = r.get("peak")
-            checks.append({"name": f"{r['run']}: the centre's pressure rises above p₀ (Mandel–Cryer effect)",
-                           "passed": peak is not None and peak > 1.0,
-                           "detail": f"peak p/p₀ = {fmt(peak, '.4f')} (closed form {fmt(r.get('peak_exact'), '.4f')})"})
+            checks += _centre_checks(r, f"Mandel's centre pressure within {MANDEL_TOLERANCE} p₀ from c t/a² = "
+                                        f"{MANDEL_FROM_TIME_FACTOR:g}", "mandel_error", MANDEL_TOLERANCE)
             e = r.get("field_error")
             checks.append({"name": f"{r['run']}: the pressure field within {MANDEL_TOLERANCE} p₀ in every cell "
                                    f"from c t/a² = {MANDEL_FROM_TIME_FACTOR:g} (each output frame)",
@@ -317,6 +446,11 @@ def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[
                                    f"within {CHECKERBOARD_TOLERANCE} p₀ of each other",
                            "passed": e is not None and e <= CHECKERBOARD_TOLERANCE,
                            "detail": f"largest spread = {fmt(e, '.4f')} p₀"})
+            continue
+        if r.get("kind") == "radial":
+            checks += _centre_checks(r, f"{RADIAL_TITLES.get(r.get('shape'), 'radial')}, centre pressure within "
+                                        f"{RADIAL_TOLERANCE} p₀ from c t/R² = {RADIAL_FROM_TIME_FACTOR:g}",
+                                     "centre_error", RADIAL_TOLERANCE)
             continue
         if r.get("kind") == "undrained":
             e = r.get("undrained_error")
@@ -332,24 +466,18 @@ def evaluate_checks(results: list[dict[str, Any]], quick: bool = False) -> list[
                        "passed": e is not None and e <= ISOCHRONE_TOLERANCE,
                        "detail": f"max |Δu|/u₀ = {fmt(e, '.4f')}"})
     if not quick:
-        group = sorted((r for r in results if r.get("kind") == "mandel"), key=lambda r: r["cells"])
-        errors = [r.get("mandel_error") for r in group]
-        if len(group) >= 2 and None not in errors:
-            checks.append({"name": "Mandel: the error shrinks with the mesh", "passed": errors[-1] < errors[0],
-                           "detail": ", ".join(f"a/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
-        errors = [r.get("field_error") for r in group]
-        if len(group) >= 2 and None not in errors:
-            checks.append({"name": "Mandel: the pressure field's error shrinks with the mesh",
-                           "passed": errors[-1] < errors[0],
-                           "detail": ", ".join(f"a/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
+        mandel_runs = [r for r in results if r.get("kind") == "mandel"]
+        checks += _mesh_check("Mandel: the error shrinks with the mesh", mandel_runs, "mandel_error", "a/h")
+        checks += _mesh_check("Mandel: the pressure field's error shrinks with the mesh", mandel_runs, "field_error",
+                              "a/h")
+        for shape in RADIAL_SHAPES:
+            checks += _mesh_check(f"{RADIAL_TITLES[shape]}: the error shrinks with the mesh",
+                                  [r for r in results if r.get("kind") == "radial" and r.get("shape") == shape],
+                                  "centre_error", "R/h")
         for f in FORMULATIONS:
-            group = sorted((r for r in results if r.get("formulation") == f and r.get("kind") == "consolidation"),
-                           key=lambda r: r["cells"])
-            errors = [r.get("degree_error") for r in group]
-            if len(group) >= 2 and None not in errors:
-                checks.append({"name": f"{f}: the U error shrinks with the mesh",
-                               "passed": errors[-1] < errors[0],
-                               "detail": ", ".join(f"H/h = {r['cells']}: {e:.4f}" for r, e in zip(group, errors))})
+            checks += _mesh_check(f"{f}: the U error shrinks with the mesh",
+                                  [r for r in results if r.get("formulation") == f and r.get("kind") == "consolidation"],
+                                  "degree_error", "H/h")
     return checks
 
 
@@ -372,6 +500,13 @@ def results_table(results: list[dict[str, Any]]) -> str:
         rows += [f"| {r['run']} | {r['cells']} | {fmt(r.get('mandel_error'), '.4f')} | {fmt(r.get('peak'), '.4f')} | "
                  f"{fmt(r.get('peak_exact'), '.4f')} | {fmt(r.get('peak_time_factor'), '.3f')} | "
                  f"{fmt(r.get('field_error'), '.4f')} | {fmt(r.get('column_spread'), '.4f')} |" for r in mandel_rows]
+    radial_rows = [r for r in results if r.get("kind") == "radial"]
+    if radial_rows:
+        rows += ["", "| radial run | body | R/h | max \\|Δp\\|/p₀ (c t/R² ≥ " + f"{RADIAL_FROM_TIME_FACTOR:g}) | "
+                 "peak p/p₀ | closed-form peak | T at peak |", "|---|---|---|---|---|---|---|"]
+        rows += [f"| {r['run']} | {RADIAL_TITLES.get(r.get('shape'), DASH)} | {r['cells']} | "
+                 f"{fmt(r.get('centre_error'), '.4f')} | {fmt(r.get('peak'), '.4f')} | "
+                 f"{fmt(r.get('peak_exact'), '.4f')} | {fmt(r.get('peak_time_factor'), '.3f')} |" for r in radial_rows]
     for r in results:
         if r.get("kind") == "undrained":
             rows.append(f"\nUndrained (k = {UNDRAINED_CONDUCTIVITY:g} m/s, K_w = {UNDRAINED_WATER_BULK_MODULUS:g} Pa): "
@@ -446,12 +581,59 @@ def _plot_mandel(ax: Any, results: list[dict[str, Any]], base: Path) -> None:
     ax.legend(fontsize=7)
 
 
+def plot_radial(results: list[dict[str, Any]], base: Path, path: Path) -> bool:
+    """The centre's pressure of the Cryer and de Leeuw runs against the closed forms, one panel
+    each; False without matplotlib or without such runs."""
+    runs = [r for r in results if r.get("kind") == "radial" and r.get("status") == "completed"]
+    if not runs:
+        return False
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        import numpy as np
+
+        from ...run.output import load_run
+        from . import radial
+    except ImportError:  # pragma: no cover
+        return False
+    material = mandel_material(RADIAL_CONDUCTIVITY)
+    fig, axes = plt.subplots(1, len(RADIAL_SHAPES), figsize=(10, 4))
+    t = np.linspace(1e-4, RADIAL_END_TIME_FACTOR, 400)
+    for ax, shape in zip(axes, RADIAL_SHAPES):
+        ax.plot(t, radial.centre_pressure(shape, t, material), "k-", label="closed form")
+        for r in runs:
+            if r.get("shape") != shape:
+                continue
+            history = load_run(base / r["run_dir"]).history
+            tr = np.asarray(history["time"]) * material.consolidation_coefficient / RADIAL_RADIUS**2
+            ax.plot(tr, np.asarray(history["centre.pore_pressure"]) / r["p0"], "--", label=r["run"])
+        ax.axvline(RADIAL_FROM_TIME_FACTOR, color="0.7", lw=0.8)
+        ax.set_title(RADIAL_TITLES[shape])
+        ax.set_xlabel("c t / R²")
+        ax.set_ylabel("p(0, t) / p₀")
+        ax.set_ylim(0.0, 1.7)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return True
+
+
+def _cell(text: str) -> str:
+    """A Markdown table cell: the bars of "|Δp|" escaped, which would otherwise end the cell."""
+    return str(text).replace("|", "\\|")
+
+
 class Consolidation:
-    """Terzaghi consolidation of a saturated column (two-phase v–w), plane strain and axisymmetric."""
+    """Consolidation of saturated soil (two-phase v–w): Terzaghi's column in plane strain and
+    axisymmetric, Mandel's specimen, Cryer's sphere and de Leeuw's cylinder."""
 
     name = "consolidation"
     kind = "verification"
-    title = "Terzaghi one-dimensional consolidation (saturated two-phase soil)"
+    title = "Consolidation of saturated soil: Terzaghi, Mandel, Cryer, de Leeuw (two-phase)"
     default = False
 
     def add_options(self, parser: argparse.ArgumentParser) -> None:
@@ -465,12 +647,15 @@ class Consolidation:
         if p["kind"] == "mandel":
             end = QUICK_MANDEL_END_TIME_FACTOR if p.get("quick") else MANDEL_END_TIME_FACTOR
             return mandel_scenario(p["cells"], p["conductivity"], end)
+        if p["kind"] == "radial":
+            end = QUICK_RADIAL_END_TIME_FACTOR if p.get("quick") else RADIAL_END_TIME_FACTOR
+            return radial_scenario(p["shape"], p["cells"], p["conductivity"], end)
         return column_scenario(p["formulation"], p["cells"], p["kind"], p.get("conductivity", CONDUCTIVITY))
 
     def reference(self, run: RunSpec) -> dict[str, Any]:
         if run.params["kind"] == "undrained":
             return {"undrained_ratio": 1.0}
-        if run.params["kind"] == "mandel":
+        if run.params["kind"] in ("mandel", "radial"):
             return {}
         return {f"U_{t:g}": exact.degree(t) for t in DEGREE_TIME_FACTORS}
 
@@ -481,6 +666,10 @@ class Consolidation:
         p = run.params
         if p["kind"] == "mandel":
             return float(p["cells"] ** 3 / p["conductivity"])
+        if p["kind"] == "radial":
+            # Particles × steps: the sphere's quarter disc has ~π/4 (R/h)² cells, the slab 2 R/h.
+            cells = p["cells"] ** 3 if p["shape"] == "sphere" else 2 * p["cells"] ** 2
+            return float(cells / p["conductivity"])
         return float(p["cells"] ** 2 / p["conductivity"]) if p["kind"] == "consolidation" else 1.0
 
     def progress(self, record: dict[str, Any]) -> str:
@@ -488,6 +677,10 @@ class Consolidation:
             return f"{record.get('status')}: {record.get('message', '')}"
         if record.get("kind") == "undrained":
             return f"⟨p⟩/u₀ {fmt(record.get('undrained_ratio'), '.4f')}"
+        if record.get("kind") == "radial":
+            return (f"{RADIAL_TITLES.get(record.get('shape'), 'radial')}: max |Δp|/p₀ "
+                    f"{fmt(record.get('centre_error'), '.4f')}, peak p/p₀ {fmt(record.get('peak'), '.4f')} "
+                    f"(exact {fmt(record.get('peak_exact'), '.4f')})")
         if record.get("kind") == "mandel":
             return (f"Mandel: max |Δp|/p₀ {fmt(record.get('mandel_error'), '.4f')}, peak p/p₀ "
                     f"{fmt(record.get('peak'), '.4f')} (exact {fmt(record.get('peak_exact'), '.4f')})")
@@ -504,8 +697,12 @@ class Consolidation:
                 "hydraulic_conductivity": CONDUCTIVITY, "consolidation_coefficient": consolidation_coefficient(
                     "consolidation"), "degree_time_factors": DEGREE_TIME_FACTORS,
                 "isochrone_time_factors": ISOCHRONE_TIME_FACTORS,
+                "radial": {"radius": RADIAL_RADIUS, "hydraulic_conductivity": RADIAL_CONDUCTIVITY,
+                           "from_time_factor": RADIAL_FROM_TIME_FACTOR, "cylinder_cells_high": CYLINDER_CELLS_HIGH,
+                           "sphere_chords": SPHERE_CHORDS},
                 "tolerances": {"degree": DEGREE_TOLERANCE, "isochrone": ISOCHRONE_TOLERANCE,
-                               "undrained": UNDRAINED_TOLERANCE}}
+                               "undrained": UNDRAINED_TOLERANCE, "mandel": MANDEL_TOLERANCE,
+                               "radial": RADIAL_TOLERANCE}}
 
     def console(self, results: list[dict[str, Any]], checks: list[dict[str, Any]]) -> str:
         return results_table(results)
@@ -520,10 +717,18 @@ class Consolidation:
                  f"--quick: k = {QUICK_CONDUCTIVITY:g} m/s). U = 1 − ⟨p⟩/u₀; the isochrones are compared at the "
                  "centres of the cells (the pressure is the cell's).", "",
                  results_table(list(results)), "", "| check | passed | detail |", "|---|---|---|"]
-        lines += [f"| {c['name']} | {'yes' if c['passed'] else 'NO'} | {c.get('detail', DASH)} |" for c in checks]
+        lines += [f"| {_cell(c['name'])} | {'yes' if c['passed'] else 'NO'} | {_cell(c.get('detail', DASH))} |"
+                  for c in checks]
         figure = Path(out) / "figures" / "consolidation.png"
         if context.get("figures", True) and plot(list(results), Path(out), figure):
             lines += ["", f"![U against T_v and the isochrones]({figure.relative_to(Path(out))})"]
+        figure = Path(out) / "figures" / "consolidation_radial.png"
+        if context.get("figures", True) and plot_radial(list(results), Path(out), figure):
+            lines += ["", "Cryer's sphere and de Leeuw's cylinder (axisymmetric, drained surface, from their "
+                      "undrained state): the centre's pore pressure against the closed forms "
+                      "(docs/physics.md §10).", "",
+                      f"![the centre's pressure of Cryer's sphere and de Leeuw's cylinder]"
+                      f"({figure.relative_to(Path(out))})"]
         return "\n".join(lines) + "\n"
 
 

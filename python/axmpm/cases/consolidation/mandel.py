@@ -43,7 +43,7 @@ class MandelMaterial:
         self.poisson_ratio = nu
         self.bulk_modulus = e / (3.0 * (1.0 - 2.0 * nu))
         self.shear_modulus = e / (2.0 * (1.0 + nu))
-        biot_modulus = water_bulk_modulus / porosity
+        self.biot_modulus = biot_modulus = water_bulk_modulus / porosity
         k_u = self.bulk_modulus + biot_modulus
         self.skempton = biot_modulus / (biot_modulus + self.bulk_modulus)
         g = self.shear_modulus
