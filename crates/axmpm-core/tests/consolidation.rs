@@ -491,3 +491,24 @@ fn a_penalty_contact_next_to_a_saturated_body_is_refused_naming_the_key() {
     cfg.rigid_bodies = vec![body("nodes")];
     assert!(Simulation::new(cfg, 1).is_ok());
 }
+
+#[test]
+fn a_dry_body_in_a_saturated_run_books_its_reactions_with_its_solid_mass() {
+    // The loaded column (k = 1e-3, roller base) and, on the same base two cells away, an
+    // unloaded dry column of the same skeleton (its nodes carry no water: the mass the base books
+    // there is the solid's alone). No gravity: the dry column stays at rest and the base still
+    // balances the column's load and inertia, R_y = −q A − dP/dt, within 1 % of q A.
+    let cells = 10;
+    let h = HEIGHT / cells as f64;
+    let mut cfg = column(FormulationKind::PlaneStrain, cells, 1e-3);
+    cfg.boundaries.bottom = BoundaryCondition::ROLLER;
+    cfg.grid.extent = [5.0 * h, HEIGHT + 2.0 * h];
+    let mut dry = BodyConfig::rectangle("m", [3.0 * h, 0.0], [4.0 * h, HEIGHT]);
+    dry.name = Some("dry".into());
+    cfg.bodies.push(dry);
+    let mut sim = Simulation::new(cfg, 1).unwrap();
+    let load = LOAD * h;
+    let (r, inertia, _) = mean_reactions(&mut sim, 0.01 * HEIGHT * HEIGHT / consolidation_coefficient(1e-3), &["bottom"]);
+    println!("base R_y/(qA) {:.5}, dP/dt/(qA) {:.5}", r[0][1] / load, inertia / load);
+    assert!((r[0][1] + load + inertia).abs() < 0.01 * load, "{} + {load} + {inertia}", r[0][1]);
+}
