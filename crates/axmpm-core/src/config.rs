@@ -407,6 +407,11 @@ impl Config {
         Ok(config)
     }
 
+    /// Whether any body is saturated (pore water; the run then takes the two-phase step).
+    pub fn has_saturated_bodies(&self) -> bool {
+        self.bodies.iter().any(|b| b.saturated.is_some())
+    }
+
     /// Checks that protect the engine itself; the front end reports the same problems with the
     /// scenario's dotted key names before the engine is ever built.
     pub fn validate(&self) -> Result<(), String> {
@@ -486,12 +491,9 @@ impl Config {
             }
         }
         validate_saturated(self)?;
-        if self.bodies.iter().any(|b| b.saturated.is_some()) {
+        if self.has_saturated_bodies() {
             if let Some(i) = self.rigid_bodies.iter().position(|b| b.contact == ContactKind::Penalty) {
-                return Err(format!(
-                    "rigid_bodies.{i}.contact: \"penalty\" cannot be combined with saturated bodies (the saturated step \
-                     imposes a rigid body's contact at the nodes): use \"nodes\""
-                ));
+                return Err(format!("rigid_bodies.{i}.contact: {PENALTY_WITH_SATURATED}"));
             }
         }
         if let Some(name) = &g.follow {
@@ -783,6 +785,11 @@ pub const FOLLOW_IS_EXPERIMENTAL: &str = "the moving grid is experimental (measu
     smooth footings converge, but rough bodies and FLIP 0.999 became unstable at B/h = 40; \
     docs/studies/contact-remedies.md): set grid.experimental = true to use it";
 
+/// Why a rigid body's `contact = "penalty"` is refused next to a saturated body (the same words
+/// in the front end).
+pub const PENALTY_WITH_SATURATED: &str = "\"penalty\" cannot be combined with saturated bodies (the saturated step \
+    imposes a rigid body's contact at the nodes): use \"nodes\"";
+
 /// What `grid.follow = follow` is refused for, from what the configuration says: it must name
 /// one of `rigid_bodies`, need `experimental`, and nothing else may be tied to fixed node rows
 /// (`walls`: a wall's nodes; `saturated`: the drainage faces of saturated soil). A non-local
@@ -810,8 +817,7 @@ pub fn follow_errors(follow: &str, experimental: bool, rigid_bodies: &[&str], wa
 
 fn validate_follow(config: &Config, name: &str) -> Result<(), String> {
     let names: Vec<&str> = config.rigid_bodies.iter().map(|b| b.name.as_str()).collect();
-    let saturated = config.bodies.iter().any(|b| b.saturated.is_some());
-    match follow_errors(name, config.grid.experimental, &names, config.walls.len(), saturated).first() {
+    match follow_errors(name, config.grid.experimental, &names, config.walls.len(), config.has_saturated_bodies()).first() {
         Some(error) => Err(format!("grid.follow: {error}")),
         None => Ok(()),
     }

@@ -215,7 +215,7 @@ pub fn rigid_bodies(config: &Config) -> Result<Vec<crate::constraint::RigidBody>
 /// (the material's density is the grains'), the effective geostatic stress and the surface
 /// load. Allocates the water arrays for every particle (dry bodies get n = 0).
 fn saturate<F: Formulation>(config: &Config, particles: &mut Particles, ranges: &[std::ops::Range<usize>]) {
-    if !config.bodies.iter().any(|b| b.saturated.is_some()) {
+    if !config.has_saturated_bodies() {
         return;
     }
     let n_particles = particles.len();

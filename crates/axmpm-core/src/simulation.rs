@@ -221,7 +221,7 @@ impl Simulation {
         let grid = GridGeometry::new(g.origin, g.extent, g.cell_size);
         let s = &config.simulation;
         let axisymmetric = s.formulation == FormulationKind::Axisymmetric;
-        let saturated = solver::saturated::is_saturated(&config);
+        let saturated = config.has_saturated_bodies();
         let scheme = Scheme::select(s.formulation, s.shape_function, saturated);
         let with_corners = scheme.uses_corners;
         let (mut particles, time, steps, tiles) = match restored {

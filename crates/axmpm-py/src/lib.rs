@@ -384,6 +384,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(rigid_body_errors, m)?)?;
     m.add_function(wrap_pyfunction!(reserved_names, m)?)?;
     m.add_function(wrap_pyfunction!(follow_errors, m)?)?;
+    m.add("PENALTY_WITH_SATURATED", axmpm_core::config::PENALTY_WITH_SATURATED)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -271,20 +271,14 @@ def cross_check_parts(
     if grid is not None and grid.follow is not None:
         errors.extend(_follow_errors(grid.follow, grid.experimental, materials, bodies, walls, rigid_bodies))
     if any(b is not None and b.saturated is not None for b in bodies or []):
-        errors.extend((f"rigid_bodies.{i}.contact", PENALTY_WITH_WATER) for i, b in enumerate(rigid_bodies or [])
-                      if b is not None and b.contact == "penalty")
+        errors.extend((f"rigid_bodies.{i}.contact", core().PENALTY_WITH_SATURATED)
+                      for i, b in enumerate(rigid_bodies or []) if b is not None and b.contact == "penalty")
     if surcharges:
         taken = set(reserved_names(len(walls or [])))
         taken |= {b.name for b in rigid_bodies or [] if b is not None and b.name is not None}
         errors.extend(surcharge_errors(surcharges, frame, taken))
     errors.extend(probe_errors(probes, grid if grid_ok else None))
     return errors
-
-
-#: Why a rigid body's penalty contact is refused next to a saturated body (the same words as the
-#: engine's).
-PENALTY_WITH_WATER = ('"penalty" cannot be combined with saturated bodies (the saturated step imposes a rigid '
-                      'body\'s contact at the nodes): use "nodes"')
 
 
 def _follow_errors(

@@ -61,11 +61,6 @@ use crate::particles::Particles;
 /// whatever gravity the run itself applies (m/s²).
 pub const STANDARD_GRAVITY: f64 = 9.81;
 
-/// Whether any body of `config` is saturated (the run then takes [`step`]).
-pub fn is_saturated(config: &Config) -> bool {
-    config.bodies.iter().any(|b| b.saturated.is_some())
-}
-
 /// The pore water of the run (K_w, ρ_w), from the first saturated body.
 fn pore_water(config: &Config) -> Option<(f64, f64)> {
     config.bodies.iter().find_map(|b| b.saturated.as_ref().map(|s| (s.water_bulk_modulus, s.water_density)))
