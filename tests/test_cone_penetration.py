@@ -78,3 +78,31 @@ def test_full_checks_by_hand() -> None:
     domain = [_record(500, "smooth", 4, 13.0), _record(500, "smooth", 4, 13.0 * 1.03, scale=2.0)]
     check = next(c for c in cone.full_checks(domain) if c["name"].startswith("domain"))
     assert not check["passed"] and "+3.0 %" in check["detail"]
+
+
+def test_the_rate_and_the_push_are_options_of_the_case() -> None:
+    """--cone-velocity and --cone-push reach every run's scenario: half the speed doubles every
+    time of the run (ramp, end, history rows); the push sets the travel; bad values are refused."""
+    from axmpm.cases.cone_penetration.case import ConePenetration
+    from axmpm.cases.cone_penetration.scenario import RADIUS, cone_scenario
+
+    case = ConePenetration()
+    parser = argparse.ArgumentParser()
+    case.add_options(parser)
+    options = parser.parse_args(["--cone-meshes", "2", "--cone-rigidity", "100", "--cone-roughness", "smooth",
+                                 "--cone-velocity", "0.5", "--cone-push", "8"])
+    (run,) = case.runs(options)
+    slow = case.scenario(run).to_dict()
+    fast = cone_scenario(100.0, "smooth", 2, push=8.0).to_dict()
+    for key in ("end_time", "history_interval"):
+        assert slow["simulation"][key] == pytest.approx(2.0 * fast["simulation"][key], rel=1e-12)
+    motion = slow["rigid_bodies"][0]["motion"]
+    assert motion[-1][2] == -0.5 and motion[-1][0] == pytest.approx(2.0 * fast["rigid_bodies"][0]["motion"][-1][0])
+    travel = 0.5 * motion[-1][0] * 0.5 + 0.5 * (slow["simulation"]["end_time"] - motion[-1][0])
+    assert travel == pytest.approx(8.0 * RADIUS, rel=1e-12)
+    for bad in (["--cone-velocity", "0"], ["--cone-velocity", "x"], ["--cone-push", "6"]):
+        with pytest.raises(SystemExit) as stop:
+            parser.parse_args(bad)
+        assert stop.value.code == 2
+    with pytest.raises(ValueError, match="velocity must be > 0"):
+        cone_scenario(100.0, "smooth", 2, velocity=-1.0)

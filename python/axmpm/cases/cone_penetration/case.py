@@ -21,15 +21,14 @@ import argparse
 import json
 import math
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
 from ...report import checks_table, figures_section, fmt, pct
 from .. import RunSpec, register
-from .scenario import (DIAMETER, MESHES, PUSH, RADIUS, RIGIDITY_INDICES, ROUGHNESS, SLEEVE_AREA, WINDOW, cone_scenario,
-                       domain,
-                       lu_et_al, penetration_curve, steady_cone_factor, teh_houlsby)
+from .scenario import (DIAMETER, MESHES, PUSH, RADIUS, RIGIDITY_INDICES, ROUGHNESS, SLEEVE_AREA, VELOCITY, WINDOW,
+                       cone_scenario, domain, lu_et_al, penetration_curve, steady_cone_factor, teh_houlsby)
 
 #: N_c at the finest mesh: enforced within LIMIT of Lu et al., aimed within TARGET.
 LIMIT, TARGET = 0.10, 0.05
@@ -57,12 +56,25 @@ def run_name(rigidity_index: int, roughness: str, cells: int, scale: float = 1.0
 
 
 def _params(rigidity_index: int, roughness: str, cells: int, push: float = PUSH, window: float = WINDOW,
-            scale: float = 1.0, quick: bool = False) -> dict[str, Any]:
+            scale: float = 1.0, quick: bool = False, velocity: float = VELOCITY) -> dict[str, Any]:
     alpha = ROUGHNESS[roughness]
     return {"rigidity_index": rigidity_index, "roughness": roughness, "alpha": alpha, "cells_per_radius": cells,
-            "quick": quick,
+            "quick": quick, "velocity": velocity,
             "push_radii": push, "window_radii": window, "domain_scale": scale,
             "domain_radii": list(domain(rigidity_index, scale, push))}
+
+
+def _positive(flag: str, above: float) -> Callable[[str], float]:
+    """An argparse type: a number above ``above``, else the flag's allowed range in the error."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not value > above:
+            raise argparse.ArgumentTypeError(f"{flag} must be a number > {above:g} (got {text!r})")
+        return value
+    return parse
 
 
 class ConePenetration:
@@ -81,6 +93,11 @@ class ConePenetration:
                             f"(default {' '.join(map(str, RIGIDITY_INDICES))})")
         parser.add_argument("--cone-roughness", choices=tuple(ROUGHNESS), nargs="+", default=None,
                             help="cone_penetration: smooth (alpha = 0) and/or rough (adhesion = s_u); default both")
+        parser.add_argument("--cone-velocity", type=_positive("--cone-velocity", 0.0), default=VELOCITY,
+                            metavar="V", help=f"cone_penetration: the cone's speed, m/s, > 0 (default {VELOCITY:g})")
+        parser.add_argument("--cone-push", type=_positive("--cone-push", WINDOW), default=PUSH, metavar="RADII",
+                            help=f"cone_penetration: travel in cone radii, > {WINDOW:g} (the last {WINDOW:g} R "
+                                 f"give N_c; default {PUSH:g})")
 
     def runs(self, options: argparse.Namespace) -> list[RunSpec]:
         if getattr(options, "quick", False):
@@ -89,16 +106,18 @@ class ConePenetration:
         meshes = sorted(set(getattr(options, "cone_meshes", None) or MESHES))
         indices = sorted(set(getattr(options, "cone_rigidity", None) or RIGIDITY_INDICES))
         roughness = [r for r in ROUGHNESS if r in (getattr(options, "cone_roughness", None) or ROUGHNESS)]
-        runs = [RunSpec(run_name(ir, r, n), _params(ir, r, n)) for n in meshes for ir in indices for r in roughness]
+        rate = {"push": getattr(options, "cone_push", PUSH), "velocity": getattr(options, "cone_velocity", VELOCITY)}
+        runs = [RunSpec(run_name(ir, r, n), _params(ir, r, n, **rate)) for n in meshes for ir in indices
+                for r in roughness]
         ir, r, n = DOMAIN_RUN
         if ir in indices and r in roughness and n in meshes:
-            runs.append(RunSpec(run_name(ir, r, n, 2.0), _params(ir, r, n, scale=2.0)))
+            runs.append(RunSpec(run_name(ir, r, n, 2.0), _params(ir, r, n, scale=2.0, **rate)))
         return runs
 
     def scenario(self, run: RunSpec) -> Any:
         p = run.params
         return cone_scenario(p["rigidity_index"], p["roughness"], p["cells_per_radius"], push=p["push_radii"],
-                             domain_scale=p["domain_scale"])
+                             domain_scale=p["domain_scale"], velocity=p.get("velocity", VELOCITY))
 
     def reference(self, run: RunSpec) -> dict[str, Any]:
         p = run.params
@@ -165,7 +184,8 @@ class ConePenetration:
                                                  "- 1.8 Delta"},
                 "parameters": {"radius": s.RADIUS, "apex_angle_degrees": 60.0, "undrained_strength": s.UNDRAINED_STRENGTH,
                                "in_situ_stress": s.IN_SITU_STRESS, "poisson_ratio": s.POISSON_RATIO,
-                               "density": s.DENSITY, "velocity": s.VELOCITY, "embedment_radii": s.EMBEDMENT,
+                               "density": s.DENSITY, "velocity": getattr(options, "cone_velocity", s.VELOCITY),
+                               "push_radii": getattr(options, "cone_push", s.PUSH), "embedment_radii": s.EMBEDMENT,
                                "sleeve_length": s.SLEEVE_LENGTH, "scheme": "cpgimp", "particles_per_cell": 2,
                                "volumetric_averaging": "cell", "flip_fraction": 0.99}}
 

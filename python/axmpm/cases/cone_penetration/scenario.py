@@ -97,15 +97,18 @@ def domain(rigidity_index: float, scale: float = 1.0, push: float = PUSH) -> tup
 
 def cone_scenario(rigidity_index: float = 100.0, roughness: str = "smooth", cells_per_radius: int = 4,
                   push: float = PUSH, domain_scale: float = 1.0, embedment: float = EMBEDMENT,
-                  width: float | None = None, below: float | None = None) -> Scenario:
+                  width: float | None = None, below: float | None = None,
+                  velocity: float = VELOCITY) -> Scenario:
     """The cone penetration scenario (module doc): I_r = ``rigidity_index``, ``roughness``
-    smooth or rough, R/h = ``cells_per_radius``, pushed ``push`` R from ``embedment`` R below the
-    surface, in a soil of the module's radius and depth × ``domain_scale`` (or ``width`` and
-    ``below`` R given)."""
+    smooth or rough, R/h = ``cells_per_radius``, pushed ``push`` R at ``velocity`` m/s from
+    ``embedment`` R below the surface, in a soil of the module's radius and depth ×
+    ``domain_scale`` (or ``width`` and ``below`` R given)."""
     if roughness not in ROUGHNESS:
         raise ValueError(f"roughness must be one of {', '.join(ROUGHNESS)} (got {roughness!r})")
     if not rigidity_index > 0:
         raise ValueError(f"rigidity_index must be > 0 (got {rigidity_index})")
+    if not velocity > 0:
+        raise ValueError(f"velocity must be > 0 m/s (got {velocity})")
     R = RADIUS
     h = R / cells_per_radius
     default_width, default_below = domain(rigidity_index, domain_scale, push)
@@ -117,15 +120,15 @@ def cone_scenario(rigidity_index: float = 100.0, roughness: str = "smooth", cell
     grid_top = soil_depth + cells(push + HEADROOM) * h
     tip = soil_depth - embedment * R
     shear = rigidity_index * UNDRAINED_STRENGTH
-    ramp_time = 2.0 * RAMP * R / VELOCITY  # travel V t_r / 2 = RAMP R during the ramp
-    end_time = ramp_time + (push * R - RAMP * R) / VELOCITY
+    ramp_time = 2.0 * RAMP * R / velocity  # travel V t_r / 2 = RAMP R during the ramp
+    end_time = ramp_time + (push * R - RAMP * R) / velocity
     data: dict[str, Any] = {
         "simulation": {
             "formulation": "axisymmetric",
             "shape_function": "cpgimp",
             "end_time": end_time,
             "output_interval": end_time / 4.0,
-            "history_interval": HISTORY_STEP * R / VELOCITY,
+            "history_interval": HISTORY_STEP * R / velocity,
             "gravity": [0.0, 0.0],
             "volumetric_averaging": "cell",
         },
@@ -141,7 +144,7 @@ def cone_scenario(rigidity_index: float = 100.0, roughness: str = "smooth", cell
         "rigid_bodies": [{
             "name": "cone", "shape": "polygon",
             "vertices": [[0.0, tip], [R, tip + SHOULDER], [R, grid_top], [0.0, grid_top]],
-            "motion": [[0.0, 0.0, 0.0], [ramp_time, 0.0, -VELOCITY]],
+            "motion": [[0.0, 0.0, 0.0], [ramp_time, 0.0, -velocity]],
             "friction": 0.0,
             "adhesion": ROUGHNESS[roughness] * UNDRAINED_STRENGTH,
             "parts": [{"name": "tip", "below": SHOULDER}, {"name": "sleeve", "below": SHOULDER + SLEEVE_LENGTH}],
