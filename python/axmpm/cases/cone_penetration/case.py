@@ -43,6 +43,10 @@ QUASI_STATIC = 0.01
 DOMAIN_LIMIT = 0.02
 #: The run the domain check doubles (rigidity index, roughness, R/h).
 DOMAIN_RUN = (max(RIGIDITY_INDICES), "smooth", MESHES[0])
+#: Rate check: half the speed changes N_c by less than this (aim; docs/physics.md §8, "Rate"), on
+#: the run RATE_RUN (rigidity index, roughness, R/h).
+RATE_LIMIT = 0.02
+RATE_RUN = (100, "smooth", MESHES[0])
 
 #: The quick run: (rigidity index, roughness, R/h, push, window) in R; its band around Lu et al.
 QUICK = (100, "smooth", 2, 6.0, 2.0)
@@ -51,15 +55,17 @@ QUICK_BAND = 0.30
 SMOOTH_SHAFT = 1e-6
 
 
-def run_name(rigidity_index: int, roughness: str, cells: int, scale: float = 1.0) -> str:
-    return f"ir{rigidity_index}_{roughness}_r{cells}" + ("" if scale == 1.0 else f"_domain{scale:g}")
+def run_name(rigidity_index: int, roughness: str, cells: int, scale: float = 1.0, half_speed: bool = False) -> str:
+    return (f"ir{rigidity_index}_{roughness}_r{cells}" + ("" if scale == 1.0 else f"_domain{scale:g}")
+            + ("_half_speed" if half_speed else ""))
 
 
 def _params(rigidity_index: int, roughness: str, cells: int, push: float = PUSH, window: float = WINDOW,
-            scale: float = 1.0, quick: bool = False, velocity: float = VELOCITY) -> dict[str, Any]:
+            scale: float = 1.0, quick: bool = False, velocity: float = VELOCITY,
+            half_speed: bool = False) -> dict[str, Any]:
     alpha = ROUGHNESS[roughness]
     return {"rigidity_index": rigidity_index, "roughness": roughness, "alpha": alpha, "cells_per_radius": cells,
-            "quick": quick, "velocity": velocity,
+            "quick": quick, "velocity": 0.5 * velocity if half_speed else velocity, "half_speed": half_speed,
             "push_radii": push, "window_radii": window, "domain_scale": scale,
             "domain_radii": list(domain(rigidity_index, scale, push))}
 
@@ -112,6 +118,9 @@ class ConePenetration:
         ir, r, n = DOMAIN_RUN
         if ir in indices and r in roughness and n in meshes:
             runs.append(RunSpec(run_name(ir, r, n, 2.0), _params(ir, r, n, scale=2.0, **rate)))
+        ir, r, n = RATE_RUN
+        if ir in indices and r in roughness and n in meshes:
+            runs.append(RunSpec(run_name(ir, r, n, half_speed=True), _params(ir, r, n, half_speed=True, **rate)))
         return runs
 
     def scenario(self, run: RunSpec) -> Any:
@@ -243,9 +252,16 @@ def _completed(results: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return [r for r in results if r.get("cone_factor") is not None]
 
 
+def _run(results: list[dict[str, Any]], which: tuple[int, str, int], scale: float = 1.0,
+         half_speed: bool = False) -> dict[str, Any] | None:
+    """The completed run of (rigidity index, roughness, R/h) with that domain scale and speed."""
+    return next((r for r in _completed(results) if (r["rigidity_index"], r["roughness"], r["cells_per_radius"]) == which
+                 and r["domain_scale"] == scale and bool(r.get("half_speed")) == half_speed), None)
+
+
 def _finest(results: list[dict[str, Any]], rigidity_index: int, roughness: str) -> dict[str, Any] | None:
     group = [r for r in _completed(results) if r["rigidity_index"] == rigidity_index and r["roughness"] == roughness
-             and r["domain_scale"] == 1.0]
+             and r["domain_scale"] == 1.0 and not r.get("half_speed")]
     return max(group, key=lambda r: r["cells_per_radius"]) if group else None
 
 
@@ -314,15 +330,20 @@ def full_checks(results: list[dict[str, Any]]) -> list[dict[str, Any]]:
         checks.append({"name": f"smooth: dN_c/d ln I_r within {100 * SLOPE_SHARE:g} % of Lu et al.'s {LU_SLOPE}",
                        "passed": abs(s - LU_SLOPE) <= SLOPE_SHARE * LU_SLOPE, "detail": f"slope {s:.3f}"})
     ir, roughness, cells = DOMAIN_RUN
-    base = next((r for r in _completed(results) if (r["rigidity_index"], r["roughness"], r["cells_per_radius"],
-                                                   r["domain_scale"]) == (ir, roughness, cells, 1.0)), None)
-    big = next((r for r in _completed(results) if (r["rigidity_index"], r["roughness"], r["cells_per_radius"],
-                                                  r["domain_scale"]) == (ir, roughness, cells, 2.0)), None)
+    base, big = _run(results, DOMAIN_RUN), _run(results, DOMAIN_RUN, scale=2.0)
     if base is not None and big is not None:
         change = big["cone_factor"] / base["cone_factor"] - 1.0
         checks.append({"name": f"domain: twice the soil's radius and depth changes N_c by < {100 * DOMAIN_LIMIT:g} % "
                        f"(I_r = {ir}, {roughness}, R/h = {cells})", "passed": abs(change) < DOMAIN_LIMIT,
                        "detail": f"{base['cone_factor']:.3f} → {big['cone_factor']:.3f} ({pct(change)})"})
+    base, slow = _run(results, RATE_RUN), _run(results, RATE_RUN, half_speed=True)
+    if base is not None and slow is not None:
+        change = slow["cone_factor"] / base["cone_factor"] - 1.0
+        ir, roughness, cells = RATE_RUN
+        checks.append({"name": f"rate: half the speed changes N_c by < {100 * RATE_LIMIT:g} % "
+                       f"(I_r = {ir}, {roughness}, R/h = {cells}; aim)", "passed": abs(change) < RATE_LIMIT,
+                       "detail": f"{base['cone_factor']:.3f} at {base['velocity']:g} m/s → {slow['cone_factor']:.3f} "
+                                 f"at {slow['velocity']:g} m/s ({pct(change)})", "required": False})
     return checks
 
 
