@@ -385,9 +385,12 @@ def plot_depth(results: list[dict[str, Any]], out: Path, path: Path) -> Path:
             style = "-" if rec["cells_per_radius"] == max(x["cells_per_radius"] for x in results) else "--"
             if rec["domain_scale"] != 1.0:
                 style = ":"
+            if rec.get("half_speed"):
+                style = (0, (8, 2, 2, 2))
             ax.plot(curve["depth"], curve["cone_factor"], ls=style, lw=1.0, color=colours.get(ir, "tab:gray"),
                     label=f"I_r = {ir}, R/h = {rec['cells_per_radius']}"
-                    + ("" if rec["domain_scale"] == 1.0 else f", domain × {rec['domain_scale']:g}"))
+                    + ("" if rec["domain_scale"] == 1.0 else f", domain × {rec['domain_scale']:g}")
+                    + (f", half speed ({rec['velocity']:g} m/s)" if rec.get("half_speed") else ""))
             ax.axhline(lu_et_al(ir, ROUGHNESS[roughness]), color=colours.get(ir, "tab:gray"), lw=0.8, ls="-.")
         push, window = results[0]["push_radii"], results[0]["window_radii"]
         embed = 2.0  # diameters (EMBEDMENT R)
