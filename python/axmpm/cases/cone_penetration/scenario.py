@@ -29,9 +29,9 @@ Numerics and why:
   (docs/physics.md §8, "Cone penetration": what local damping and FLIP 0.999 do to the cone).
 * Rate: the cone accelerates linearly to ``VELOCITY`` over ``RAMP`` of travel (a sudden start sends
   a pressure pulse ρ V c_p through the soil); ρ V² = 1.8 kPa is 0.1 s_u. The quasi-static
-  check reports the kinetic energy over the plastic work at the end. The PIC share's dissipation
-  grows with the speed, and at 1 m/s it still raises N_c (half the speed: about 11 % less at
-  R/h = 4; docs/physics.md §8, "Rate"); ``velocity`` sets the speed.
+  check reports the kinetic energy over the plastic work at the end. N_c still falls with the
+  speed, a numerical effect (half the speed: 11 % less at R/h = 4; docs/physics.md §8, "Rate");
+  ``velocity`` sets the speed.
 * The shaft reaches the top of the grid and the grid reaches ``PUSH`` + ``HEADROOM`` above the
   soil, so the shaft stays out of the soil's top until the end.
 """
