@@ -56,10 +56,15 @@ def meshes_of(options: argparse.Namespace) -> list[int]:
     return [MESHES[0]] if getattr(options, "quick", False) else list(MESHES)
 
 
+def _by_mesh(results: list[dict[str, Any]], formulation: str, roughness: str) -> list[dict[str, Any]]:
+    """The case's runs that gave an N_c, coarsest mesh first."""
+    return sorted((r for r in results if r["formulation"] == formulation and r["roughness"] == roughness
+                   and r.get("bearing_capacity_factor") is not None), key=lambda r: r["cells_per_width"])
+
+
 def _finest(results: list[dict[str, Any]], formulation: str, roughness: str) -> dict[str, Any] | None:
-    group = [r for r in results if r["formulation"] == formulation and r["roughness"] == roughness
-             and r.get("bearing_capacity_factor") is not None]
-    return max(group, key=lambda r: r["cells_per_width"]) if group else None
+    runs = _by_mesh(results, formulation, roughness)
+    return runs[-1] if runs else None
 
 
 class Footing:
@@ -229,8 +234,7 @@ def _convergence_check(results: list[dict[str, Any]], formulation: str, roughnes
                        label: str) -> dict[str, Any] | None:
     """|N_c error| at the finest mesh no larger than at the coarsest (None with fewer than two
     meshes): a check that still passed when refinement made the answer worse would not verify."""
-    runs = sorted((x for x in results if x["formulation"] == formulation and x["roughness"] == roughness
-                   and x.get("bearing_capacity_factor") is not None), key=lambda x: x["cells_per_width"])
+    runs = _by_mesh(results, formulation, roughness)
     if len(runs) < 2:
         return None
     coarse, fine = runs[0], runs[-1]
@@ -247,8 +251,7 @@ def _contact_aims(results: list[dict[str, Any]], formulation: str, roughness: st
     """The aims of a converged contact (reported, not enforced): N_c of the two finest meshes
     within MESH_AGREEMENT of each other, and the load-settlement curve of the finest mesh without
     a step of q/s_u above LOAD_STEP after SMOOTH_AFTER."""
-    runs = sorted((x for x in results if x["formulation"] == formulation and x["roughness"] == roughness
-                   and x.get("bearing_capacity_factor") is not None), key=lambda x: x["cells_per_width"])
+    runs = _by_mesh(results, formulation, roughness)
     aims: list[dict[str, Any]] = []
     if len(runs) >= 2:
         coarse, fine = runs[-2], runs[-1]
