@@ -184,3 +184,9 @@ def test_a_report_without_figures_is_still_a_report() -> None:
     off = Results()
     off.context = {"figures": False}
     assert figures_section(off, broken) == ""
+
+
+def test_shared_setting_gives_the_one_value_or_the_distinct_ones() -> None:
+    assert driver.shared_setting([{"a": 0.99}, {"a": 0.99}, {"b": 1}], "a") == 0.99
+    assert driver.shared_setting([{"a": 0.999}, {"a": 0.99}, {"a": 0.999}], "a") == [0.99, 0.999]
+    assert driver.shared_setting([{"a": None}, {"b": 1}], "a") is None

@@ -86,6 +86,15 @@ def test_check_cross_errors(tiny_toml: Path) -> None:
     assert "always a roller" in result.stderr
 
 
+def test_check_names_a_bad_xpic_order(tiny_toml: Path) -> None:
+    for bad in ("0", "9", "2.5"):
+        result = run_cli("check", tiny_toml, "--set", f"simulation.xpic_order={bad}")
+        assert_input_error(result, "simulation.xpic_order")
+    result = run_cli("check", tiny_toml, "--print", "--set", "simulation.xpic_order=3")
+    assert result.returncode == 0, result.stderr
+    assert "xpic_order = 3" in result.stdout
+
+
 def test_check_prints_resolved(tiny_toml: Path) -> None:
     result = run_cli("check", tiny_toml, "--print", "--set", "simulation.damping=0.2")
     assert result.returncode == 0

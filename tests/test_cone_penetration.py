@@ -19,11 +19,14 @@ from axmpm.run.output import load_run
 def test_quick_run_splits_the_cone_force_and_lands_near_lu_et_al(tmp_path: Path) -> None:
     """I_r = 100, smooth, R/h = 2, three diameters (about 15 s): the tip, sleeve and rest parts
     sum to the cone's force at every history row; the smooth shaft takes no axial force, so the
-    tip takes it all; N_c over the last diameter lies within 30 % of Lu et al.'s 10.77."""
-    options = argparse.Namespace(quick=True, overrides=[], figures=True)
+    tip takes it all; N_c over the last diameter lies within 30 % of Lu et al.'s 10.77. A ``--set``
+    of the FLIP share reaches the runs and the results file's parameters."""
+    options = argparse.Namespace(quick=True, overrides=["simulation.flip_fraction=0.995"], figures=True)
     data = driver.verify_or_validate("verification", [CASE], options, tmp_path, jobs=1, log=None)
     (record,) = data["cases"]
     assert record["status"] == "completed", record["message"]
+    assert record["flip_fraction"] == 0.995 and data["parameters"]["flip_fraction"] == 0.995
+    assert "flip_fraction = 0.995" in (tmp_path / record["run_dir"] / "scenario.toml").read_text()
     run = load_run(tmp_path / record["run_dir"])
     cone_body = run.rigid_bodies["cone"]
     total = cone_body["force"][:, 1]

@@ -106,6 +106,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
             cfl: 0.4,
             update_scheme: UpdateScheme::Musl,
             flip_fraction: 0.99,
+            xpic_order: 1,
             damping: 0.0,
             volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),

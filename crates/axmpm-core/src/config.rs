@@ -80,6 +80,10 @@ pub struct SimulationConfig {
     pub update_scheme: UpdateScheme,
     #[serde(default = "default_flip")]
     pub flip_fraction: f64,
+    /// Order m of the XPIC(m) filter that forms the non-FLIP share of the velocity update
+    /// (`solver::xpic`): 1 is PIC.
+    #[serde(default = "default_xpic_order")]
+    pub xpic_order: u32,
     #[serde(default)]
     pub damping: f64,
     /// Anti-locking: replace each particle's volumetric strain rate by the volume average of
@@ -118,6 +122,13 @@ fn default_scheme() -> UpdateScheme {
 fn default_flip() -> f64 {
     0.99
 }
+
+fn default_xpic_order() -> u32 {
+    1
+}
+
+/// The highest XPIC order accepted (each order above 1 costs one more particle pass per step).
+pub const MAX_XPIC_ORDER: u32 = 8;
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -440,6 +451,12 @@ impl Config {
         }
         if !(0.0..=1.0).contains(&s.flip_fraction) {
             return Err(format!("simulation.flip_fraction must be in [0, 1] (got {})", s.flip_fraction));
+        }
+        if !(1..=MAX_XPIC_ORDER).contains(&s.xpic_order) {
+            return Err(format!("simulation.xpic_order must be an integer in [1, {MAX_XPIC_ORDER}] (got {})", s.xpic_order));
+        }
+        if s.xpic_order > 1 && self.has_saturated_bodies() {
+            return Err("simulation.xpic_order above 1 is not available for saturated (two-phase) runs".into());
         }
         if !(0.0..1.0).contains(&s.damping) {
             return Err(format!("simulation.damping must be in [0, 1) (got {})", s.damping));

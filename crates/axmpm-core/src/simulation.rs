@@ -272,6 +272,7 @@ impl Simulation {
         let mean_mass = particles.mass.iter().sum::<f64>() / particles.len() as f64;
         let parameters = StepParameters {
             flip_fraction: s.flip_fraction,
+            xpic_order: s.xpic_order,
             damping: s.damping,
             scheme: s.update_scheme,
             mass_threshold: 1e-12 * mean_mass,

@@ -30,6 +30,7 @@ pub fn block(
             cfl: 0.4,
             update_scheme: UpdateScheme::Musl,
             flip_fraction: 1.0,
+            xpic_order: 1,
             damping: 0.0,
             volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),

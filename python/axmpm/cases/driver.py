@@ -37,7 +37,7 @@ from ..scenario import Scenario, apply_overrides
 from . import Case, RunSpec, all_cases, default_cases, get
 
 __all__ = ["COMMANDS", "Results", "run_cases", "execute_run", "relative_errors", "select", "add_parser",
-           "main", "CASES", "REPORT"]
+           "main", "shared_setting", "CASES", "REPORT"]
 
 CASES = "cases"
 REPORT = "report.md"
@@ -102,6 +102,8 @@ def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
     started = time.perf_counter()
     try:
         scenario = build_scenario(case, run, overrides)
+        # The resolved setting (the case's own or a --set override), for the case's documentation.
+        record["flip_fraction"] = scenario.simulation.flip_fraction
         if reuse and _completed(run_dir, scenario):
             summary = json.loads((run_dir / "summary.json").read_text())
             record["reused"] = True
@@ -129,6 +131,13 @@ def execute_run(case_name: str, run: RunSpec, out: str | Path, threads: int = 1,
     record.update(reference=reference, relative_error=relative_errors(metrics, reference),
                   status=status, message=message)
     return record
+
+
+def shared_setting(results: Sequence[dict[str, Any]], key: str) -> Any:
+    """The value of ``key`` in the records that have it: one value when they all agree, else the
+    sorted distinct values (None when no record has it), for a case's ``document``."""
+    values = sorted({r[key] for r in results if r.get(key) is not None})
+    return values[0] if len(values) == 1 else (values or None)
 
 
 def _completed(run_dir: Path, scenario: Any) -> bool:

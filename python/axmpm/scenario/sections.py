@@ -56,6 +56,13 @@ class Simulation(Section):
     flip_fraction: bounded(0.0, 1.0) = Field(  # type: ignore[valid-type]
         0.99, description="1 = pure FLIP, 0 = pure PIC"
     )
+    xpic_order: bounded(1, 8, kind=int) = Field(  # type: ignore[valid-type]
+        1,
+        description="order m of the XPIC(m) filter that forms the non-FLIP share of the velocity update: "
+        "1 = PIC (damps smooth motion at the rate (1 - flip_fraction)/dt); m > 1 removes the grid's "
+        "null-space noise as PIC does and damps smooth motion to order m (Hammerquist & Nairn 2017), "
+        "at the cost of m - 1 more particle passes per step",
+    )
     damping: bounded(0.0, 1.0, hi_open=True) = Field(  # type: ignore[valid-type]
         0.0, description="Cundall local damping coefficient"
     )

@@ -1,7 +1,8 @@
 //! Grid → particle: the FLIP/PIC velocity blend
 //! v_p ← FLIP (v_p + Σ_i S_ip (v⁺_i − v_i)) + (1 − FLIP) Σ_i S_ip v⁺_i and the position
-//! increment Δx_p = Δt Σ_i S_ip v⁺_i; with MUSL, the new momentum Σ_p S_ip m_p v_p is scattered
-//! back to the grid in the same pass.
+//! increment Δx_p = Δt Σ_i S_ip v⁺_i; with XPIC(m), m > 1, the non-FLIP share is
+//! Σ_i S_ip (v⁺_i − v_i + v*_i) ([`super::xpic`]); with MUSL, the new momentum Σ_p S_ip m_p v_p
+//! is scattered back to the grid in the same pass.
 
 use rayon::prelude::*;
 
@@ -22,6 +23,8 @@ struct Pass<'a> {
     dt: f64,
     velocity_new: &'a [[f64; 2]],
     velocity_old: &'a [[f64; 2]],
+    /// XPIC(m > 1) only: the filtered start-of-step velocity v*.
+    velocity_star: Option<&'a [[f64; 2]]>,
     /// The momentum the MUSL re-map adds to (`None`: USL, no re-map).
     momentum: Option<Shared<[f64; 2]>>,
 }
@@ -31,6 +34,9 @@ struct Pass<'a> {
 /// colours as particle → grid).
 #[inline(never)] // one call per step; a symbol of its own for profiles (callgrind --toggle-collect)
 pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut State, dt: f64, cache: &[S::Cache]) {
+    if state.parameters.xpic_order > 1 {
+        super::xpic::filtered_velocity::<F, S>(state, dt, cache);
+    }
     let musl = state.parameters.scheme == UpdateScheme::Musl;
     let nodes_x = state.grid.nodes[0];
     // The re-map reaches the nodes particle → grid reached; elsewhere the momentum is +0.
@@ -45,6 +51,7 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
         momentum: if musl { Some(Shared::new(&mut fields.momentum)) } else { None },
         velocity_new: &fields.velocity_new,
         velocity_old: &fields.velocity,
+        velocity_star: state.scratch.xpic.as_ref().map(|x| &x.velocity_star[..]),
     };
     let velocities = Shared::new(&mut state.particles.velocity);
     let displacements = Shared::new(&mut state.scratch.displacement);
@@ -103,7 +110,7 @@ unsafe fn gather<F: Formulation, S: ShapeFunction>(
     overflow: bool,
 ) {
     // Local copies and slices, kept in registers across the nodal stores (see P2G).
-    let Pass { grid, flip, dt, velocity_new, velocity_old, momentum } = *pass;
+    let Pass { grid, flip, dt, velocity_new, velocity_old, velocity_star, momentum } = *pass;
     debug_assert!(velocity_new.len() == grid.num_nodes() && velocity_old.len() == grid.num_nodes());
     let corners: &[[[f64; 2]; 4]] = &particles.corners;
     // The tile's particles as slices of one length (no bounds checks in the loop).
@@ -135,10 +142,23 @@ unsafe fn gather<F: Formulation, S: ShapeFunction>(
                 dv[0] += w * (vn[0] - vo[0]);
                 dv[1] += w * (vn[1] - vo[1]);
             });
+            // The non-FLIP share: PIC, or XPIC(m) with Σ S (v* − v) added.
+            let v_pic = match velocity_star {
+                None => v_grid,
+                Some(velocity_star) => {
+                    let mut filtered = v_grid;
+                    S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
+                        let (vs, vo) = (velocity_star[node], velocity_old[node]);
+                        filtered[0] += w * (vs[0] - vo[0]);
+                        filtered[1] += w * (vs[1] - vo[1]);
+                    });
+                    filtered
+                }
+            };
             let v = *v_io;
             *v_io = [
-                flip * (v[0] + dv[0]) + (1.0 - flip) * v_grid[0],
-                flip * (v[1] + dv[1]) + (1.0 - flip) * v_grid[1],
+                flip * (v[0] + dv[0]) + (1.0 - flip) * v_pic[0],
+                flip * (v[1] + dv[1]) + (1.0 - flip) * v_pic[1],
             ];
             *dx = [dt * v_grid[0], dt * v_grid[1]];
         }

@@ -5,8 +5,9 @@
 //! 1. [`particle_to_grid`]: m_i, p_i and f_i = f_int + f_ext;
 //! 2. [`grid_update`]: a_i = (f_int + f_ext)_i / m_i (Cundall damping), v⁺_i = v_i + Δt a_i,
 //!    constraints;
-//! 3. [`grid_to_particle`]: FLIP/PIC velocity blend, Δx_p = Δt Σ S v⁺; MUSL re-map of the
-//!    momentum (Sulsky, Zhou & Schreyer 1995; USL skips it), constraints;
+//! 3. [`grid_to_particle`]: FLIP/PIC velocity blend (the PIC share filtered by [`xpic`] when
+//!    its order is above 1), Δx_p = Δt Σ S v⁺; MUSL re-map of the momentum (Sulsky, Zhou &
+//!    Schreyer 1995; USL skips it), constraints;
 //! 4. [`particle_update`]: L, F, volume, stress by the material, positions and CPDI corners.
 //!
 //! Every [`tiles::SORT_INTERVAL`] steps the particles are first sorted by grid tile;
@@ -30,6 +31,7 @@ pub mod particle_update;
 pub mod saturated;
 pub mod surface_load;
 pub mod tiles;
+pub mod xpic;
 
 pub use isa::Isa;
 pub use tiles::{Tile, TileOrder};
@@ -56,12 +58,17 @@ pub struct Scratch {
     /// Nodes the grid passes of this step work on: this step's reach together with the last
     /// step's, whose fields must be brought back to zero where the particles left.
     pub grid_region: NodeBox,
+    /// XPIC(m) with m > 1 only: the nodal fields of the filter ([`xpic`]).
+    pub xpic: Option<xpic::XpicFields>,
 }
 
 /// Parameters of the step that do not change during a run.
 #[derive(Clone, Copy, Debug)]
 pub struct StepParameters {
     pub flip_fraction: f64,
+    /// The order m of the XPIC(m) filter in the non-FLIP share of the velocity update
+    /// ([`xpic`]; 1: PIC).
+    pub xpic_order: u32,
     pub damping: f64,
     pub scheme: UpdateScheme,
     /// Nodes lighter than this get no force update (avoids dividing by vanishing GIMP masses);
@@ -185,6 +192,9 @@ impl State {
     pub fn allocate_scratch(&mut self) {
         let n = self.particles.len();
         self.scratch.displacement = vec![[0.0; 2]; n];
+        if self.parameters.xpic_order > 1 {
+            self.scratch.xpic = Some(xpic::XpicFields::new(self.grid.num_nodes()));
+        }
         if self.parameters.volumetric_averaging == VolumetricAveraging::Cell {
             let cells = self.grid.cells[0] * self.grid.cells[1];
             self.scratch.velocity_gradient = vec![[0.0; 5]; n];

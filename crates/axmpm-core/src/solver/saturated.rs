@@ -959,6 +959,7 @@ mod tests {
         let (nx, ny) = (3, 2);
         let params = crate::solver::StepParameters {
             flip_fraction: 1.0,
+            xpic_order: 1,
             damping: 0.0,
             scheme: crate::config::UpdateScheme::Musl,
             mass_threshold: 1e-9,

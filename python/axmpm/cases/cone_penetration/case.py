@@ -27,6 +27,7 @@ import numpy as np
 
 from ...report import checks_table, figures_section, fmt, pct
 from .. import RunSpec, register
+from ..driver import shared_setting
 from .scenario import (DIAMETER, MESHES, PUSH, RADIUS, RIGIDITY_INDICES, ROUGHNESS, SLEEVE_AREA, VELOCITY, WINDOW,
                        cone_scenario, domain, lu_et_al, penetration_curve, steady_cone_factor, teh_houlsby)
 
@@ -196,7 +197,7 @@ class ConePenetration:
                                "density": s.DENSITY, "velocity": getattr(options, "cone_velocity", s.VELOCITY),
                                "push_radii": getattr(options, "cone_push", s.PUSH), "embedment_radii": s.EMBEDMENT,
                                "sleeve_length": s.SLEEVE_LENGTH, "scheme": "cpgimp", "particles_per_cell": 2,
-                               "volumetric_averaging": "cell", "flip_fraction": 0.99}}
+                               "volumetric_averaging": "cell", "flip_fraction": shared_setting(results, "flip_fraction")}}
 
     def console(self, results: list[dict[str, Any]], checks: list[dict[str, Any]]) -> str:
         return nc_table(results)

@@ -18,6 +18,7 @@ import numpy as np
 
 from ...report import DASH, checks_table, figures_section, fmt, pct
 from .. import RunSpec, register
+from ..driver import shared_setting
 from .scenario import EXACT, MESHES, SETTLEMENT_WINDOW, bearing_capacity_factor, footing_scenario, load_settlement
 
 #: (formulation, roughness) of the four cases, and their titles.
@@ -175,7 +176,7 @@ class Footing:
                                "density": s.DENSITY, "soil_half_width": s.SOIL_HALF_WIDTH,
                                "soil_depth": s.SOIL_DEPTH, "velocity": s.VELOCITY, "ramp_time": s.RAMP_TIME,
                                "settlement_window": list(SETTLEMENT_WINDOW), "scheme": SCHEME,
-                               "particles_per_cell": 2, "volumetric_averaging": "cell", "flip_fraction": 0.999}}
+                               "particles_per_cell": 2, "volumetric_averaging": "cell", "flip_fraction": shared_setting(results, "flip_fraction")}}
 
     def console(self, results: list[dict[str, Any]], checks: list[dict[str, Any]]) -> str:
         return nc_table(results)
