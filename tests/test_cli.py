@@ -90,7 +90,11 @@ def test_check_names_a_bad_xpic_order(tiny_toml: Path) -> None:
     for bad in ("0", "9", "2.5"):
         result = run_cli("check", tiny_toml, "--set", f"simulation.xpic_order={bad}")
         assert_input_error(result, "simulation.xpic_order")
-    result = run_cli("check", tiny_toml, "--print", "--set", "simulation.xpic_order=3")
+    result = run_cli("check", tiny_toml, "--set", "simulation.xpic_order=3")
+    assert_input_error(result, "simulation.xpic_order")
+    assert "simulation.experimental = true" in result.stderr
+    result = run_cli("check", tiny_toml, "--print", "--set", "simulation.xpic_order=3",
+                     "--set", "simulation.experimental=true")
     assert result.returncode == 0, result.stderr
     assert "xpic_order = 3" in result.stdout
 

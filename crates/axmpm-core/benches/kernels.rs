@@ -107,6 +107,7 @@ fn block(shape: ShapeFunctionKind) -> Config {
             update_scheme: UpdateScheme::Musl,
             flip_fraction: 0.99,
             xpic_order: 1,
+            experimental: false,
             damping: 0.0,
             volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),

@@ -13,7 +13,7 @@ fn main() {
     let cfg = Config {
         simulation: SimulationConfig { formulation: FormulationKind::Axisymmetric, shape_function: shape, end_time: 1.0,
             output_interval: 0.1, gravity: [0.0, -9.81], gravity_ramp_time: 0.0, time_step: 0.0, cfl: 0.4,
-            update_scheme: UpdateScheme::Musl, flip_fraction: 0.99, xpic_order: 1, damping: 0.0, volumetric_averaging: VolumetricAveraging::None, extra: Default::default() },
+            update_scheme: UpdateScheme::Musl, flip_fraction: 0.99, xpic_order: 1, experimental: false, damping: 0.0, volumetric_averaging: VolumetricAveraging::None, extra: Default::default() },
         grid: GridConfig { origin: [0.0, 0.0], extent: [0.4, 0.3], cell_size: std::env::var("H").map(|s| s.parse().unwrap()).unwrap_or(0.001), follow: None, experimental: false },
         materials,
         bodies: vec![BodyConfig::rectangle("m", [0.0, 0.0], [0.1, 0.2])],

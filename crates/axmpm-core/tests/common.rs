@@ -31,6 +31,7 @@ pub fn block(
             update_scheme: UpdateScheme::Musl,
             flip_fraction: 1.0,
             xpic_order: 1,
+            experimental: false,
             damping: 0.0,
             volumetric_averaging: VolumetricAveraging::None,
             extra: Default::default(),

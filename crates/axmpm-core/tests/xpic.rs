@@ -19,6 +19,7 @@ fn free_fall_is_exact_with_every_order() {
                     cfg.simulation.time_step = 1e-3;
                     cfg.simulation.flip_fraction = flip;
                     cfg.simulation.xpic_order = m;
+                    cfg.simulation.experimental = true;
                     let mut sim = Simulation::new(cfg, 1).unwrap();
                     let t = 0.1;
                     sim.advance(t, u64::MAX).unwrap();
@@ -44,6 +45,7 @@ fn momentum_is_conserved_through_a_collision() {
         cfg.bodies.push(BodyConfig { velocity: [-2.0, 0.0], ..BodyConfig::rectangle("m", [1.05, 0.7], [1.35, 1.1]) });
         cfg.simulation.flip_fraction = 0.0;
         cfg.simulation.xpic_order = 3;
+        cfg.simulation.experimental = true;
         let mut sim = Simulation::new(cfg, 1).unwrap();
         let p0 = material_momentum(&sim);
         sim.advance(0.1, u64::MAX).unwrap();
@@ -72,6 +74,7 @@ fn dissipation_of_smooth_motion_falls_with_the_order() {
             cfg.boundaries.left = BoundaryCondition::ROLLER;
             cfg.simulation.flip_fraction = 0.0;
             cfg.simulation.xpic_order = m;
+                    cfg.simulation.experimental = true;
             let mut sim = Simulation::new(cfg, 1).unwrap();
             sim.advance(0.5, u64::MAX).unwrap();
             let e = sim.energies();
@@ -107,6 +110,7 @@ fn xpic_is_bit_identical_on_any_thread_count() {
         cfg.bodies.push(BodyConfig { particles_per_cell: 2, ..BodyConfig::rectangle("m", [0.4, 0.1], [0.6, 0.5]) });
         cfg.simulation.flip_fraction = 0.5;
         cfg.simulation.xpic_order = 3;
+        cfg.simulation.experimental = true;
         let run = |threads| {
             let mut sim = Simulation::new(cfg.clone(), threads).unwrap();
             sim.advance(1e9, 60).unwrap();
@@ -118,13 +122,16 @@ fn xpic_is_bit_identical_on_any_thread_count() {
     }
 }
 
-/// Orders outside [1, 8] and XPIC in a saturated run are refused, naming the key.
+/// Orders outside [1, 8], and orders above 1 without `simulation.experimental`, are refused,
+/// naming the key.
 #[test]
 fn bad_orders_are_refused() {
-    for m in [0, 9] {
+    for (m, experimental) in [(0, true), (9, true), (2, false)] {
         let mut cfg = block(FormulationKind::PlaneStrain, ShapeFunctionKind::Linear, [0.0, 0.0], [0.0, 0.0]);
         cfg.simulation.xpic_order = m;
+        cfg.simulation.experimental = experimental;
         let err = Simulation::new(cfg, 1).err().expect("refused");
         assert!(err.contains("simulation.xpic_order"), "{err}");
+        assert_eq!(err.contains("experimental"), !experimental, "{err}");
     }
 }

@@ -61,8 +61,9 @@ class Simulation(Section):
         description="order m of the XPIC(m) filter that forms the non-FLIP share of the velocity update: "
         "1 = PIC (damps smooth motion at the rate (1 - flip_fraction)/dt); m > 1 removes the grid's "
         "null-space noise as PIC does and damps smooth motion to order m (Hammerquist & Nairn 2017), "
-        "at the cost of m - 1 more particle passes per step",
+        "at the cost of m - 1 more particle passes per step. Experimental above 1: needs experimental = true",
     )
+    experimental: bool = Field(False, description="allow the experimental options (xpic_order above 1)")
     damping: bounded(0.0, 1.0, hi_open=True) = Field(  # type: ignore[valid-type]
         0.0, description="Cundall local damping coefficient"
     )
