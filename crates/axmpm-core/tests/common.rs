@@ -119,3 +119,19 @@ pub fn in_situ_layer(formulation: FormulationKind, surcharge: bool) -> Config {
 pub fn in_situ_stress_error(sim: &Simulation) -> f64 {
     sim.particles().stress.iter().flat_map(|s| s[..3].iter().map(|c| (c + S_V0).abs() / S_V0)).fold(0.0, f64::max)
 }
+
+/// Every per-particle array the run produces, as bits.
+pub fn fingerprint(sim: &Simulation) -> Vec<u64> {
+    let p = sim.particles();
+    let mut bits: Vec<u64> = Vec::new();
+    bits.extend(p.position.iter().flatten().map(|v| v.to_bits()));
+    bits.extend(p.velocity.iter().flatten().map(|v| v.to_bits()));
+    bits.extend(p.stress.iter().flatten().map(|v| v.to_bits()));
+    bits.extend(p.deformation_gradient.iter().flatten().map(|v| v.to_bits()));
+    bits.extend(p.volume.iter().map(|v| v.to_bits()));
+    bits.extend(p.state.iter().map(|v| v.to_bits()));
+    bits.extend(p.corners.iter().flatten().flatten().map(|v| v.to_bits()));
+    bits.extend(sim.grid_fields().mass.iter().map(|v| v.to_bits()));
+    bits.extend(sim.grid_fields().velocity.iter().flatten().map(|v| v.to_bits()));
+    bits
+}

@@ -38,22 +38,6 @@ fn fast_block(shape: ShapeFunctionKind) -> Config {
     cfg
 }
 
-/// Every per-particle array the run produces, as bits.
-fn fingerprint(sim: &Simulation) -> Vec<u64> {
-    let p = sim.particles();
-    let mut bits: Vec<u64> = Vec::new();
-    bits.extend(p.position.iter().flatten().map(|v| v.to_bits()));
-    bits.extend(p.velocity.iter().flatten().map(|v| v.to_bits()));
-    bits.extend(p.stress.iter().flatten().map(|v| v.to_bits()));
-    bits.extend(p.deformation_gradient.iter().flatten().map(|v| v.to_bits()));
-    bits.extend(p.volume.iter().map(|v| v.to_bits()));
-    bits.extend(p.state.iter().map(|v| v.to_bits()));
-    bits.extend(p.corners.iter().flatten().flatten().map(|v| v.to_bits()));
-    bits.extend(sim.grid_fields().mass.iter().map(|v| v.to_bits()));
-    bits.extend(sim.grid_fields().velocity.iter().flatten().map(|v| v.to_bits()));
-    bits
-}
-
 fn run(cfg: &Config, threads: usize, steps: u64) -> Simulation {
     let mut sim = Simulation::new(cfg.clone(), threads).unwrap();
     assert_eq!(sim.advance(1e9, steps).unwrap(), steps);

@@ -87,16 +87,6 @@ fn dissipation_of_smooth_motion_falls_with_the_order() {
     }
 }
 
-/// Every per-particle array the run produces, as bits.
-fn fingerprint(sim: &Simulation) -> Vec<u64> {
-    let p = sim.particles();
-    let mut bits: Vec<u64> = Vec::new();
-    bits.extend(p.position.iter().flatten().map(|v| v.to_bits()));
-    bits.extend(p.velocity.iter().flatten().map(|v| v.to_bits()));
-    bits.extend(p.stress.iter().flatten().map(|v| v.to_bits()));
-    bits
-}
-
 /// A block flying through the grid at about its wave speed, so that particles leave their
 /// tiles' zones between sorts (the scatter's one-thread part): XPIC(3) results are bit for bit
 /// the same on 1, 2 and 5 threads.
