@@ -512,3 +512,15 @@ fn a_dry_body_in_a_saturated_run_books_its_reactions_with_its_solid_mass() {
     println!("base R_y/(qA) {:.5}, dP/dt/(qA) {:.5}", r[0][1] / load, inertia / load);
     assert!((r[0][1] + load + inertia).abs() < 0.01 * load, "{} + {load} + {inertia}", r[0][1]);
 }
+
+/// XPIC orders above 1 are not available for the saturated step: refused, naming the key.
+#[test]
+fn xpic_is_refused_for_saturated_runs() {
+    let mut cfg = column(FormulationKind::PlaneStrain, 10, 1e-3);
+    cfg.simulation.experimental = true;
+    cfg.simulation.xpic_order = 2;
+    let err = Simulation::new(cfg.clone(), 1).err().expect("refused");
+    assert!(err.contains("simulation.xpic_order") && err.contains("saturated"), "{err}");
+    cfg.simulation.xpic_order = 1;
+    assert!(Simulation::new(cfg, 1).is_ok());
+}
