@@ -125,3 +125,17 @@ fn bad_orders_are_refused() {
         assert_eq!(err.contains("experimental"), !experimental, "{err}");
     }
 }
+
+/// A configuration that does not name the order gets PIC (order 1) and is accepted without
+/// `simulation.experimental`.
+#[test]
+fn the_default_order_is_pic() {
+    let cfg = block(FormulationKind::PlaneStrain, ShapeFunctionKind::Linear, [0.0, 0.0], [0.0, 0.0]);
+    let mut json = serde_json::to_value(&cfg).unwrap();
+    let simulation = json["simulation"].as_object_mut().unwrap();
+    assert!(simulation.remove("xpic_order").is_some() && simulation.remove("experimental").is_some());
+    let parsed: Config = serde_json::from_value(json.clone()).unwrap();
+    assert_eq!(parsed.simulation.xpic_order, 1);
+    assert!(!parsed.simulation.experimental);
+    assert!(Simulation::from_json(&json.to_string(), 1).is_ok());
+}
