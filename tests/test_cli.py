@@ -99,6 +99,13 @@ def test_check_names_a_bad_xpic_order(tiny_toml: Path) -> None:
     assert "xpic_order = 3" in result.stdout
 
 
+def test_check_refuses_xpic_for_a_saturated_run() -> None:
+    example = EXAMPLES / "footing_saturated.toml"
+    result = run_cli("check", example, "--set", "simulation.xpic_order=2", "--set", "simulation.experimental=true")
+    assert_input_error(result, "simulation.xpic_order")
+    assert "saturated" in result.stderr
+
+
 def test_check_prints_resolved(tiny_toml: Path) -> None:
     result = run_cli("check", tiny_toml, "--print", "--set", "simulation.damping=0.2")
     assert result.returncode == 0
