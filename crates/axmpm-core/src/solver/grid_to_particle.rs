@@ -66,10 +66,18 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
             // to nodes inside its zone, and zones of one colour are disjoint.
             let (v, dx) = unsafe { (velocities.slice(tile.range()), displacements.slice(tile.range())) };
             let zone = if reach.overflow { Some(tile.zone()) } else { None };
-            isa.run(
-                #[inline(always)]
-                || unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, zone, v, dx, false) },
-            );
+            // The filter as a constant, so that the PIC path's loop is compiled without it.
+            if pass.velocity_star.is_some() {
+                isa.run(
+                    #[inline(always)]
+                    || unsafe { gather::<F, S, true>(&pass, particles, tile.range(), cache, zone, v, dx, false) },
+                );
+            } else {
+                isa.run(
+                    #[inline(always)]
+                    || unsafe { gather::<F, S, false>(&pass, particles, tile.range(), cache, zone, v, dx, false) },
+                );
+            }
         });
         if musl {
             // The particles that left their tile's zone re-map on this thread, in array order.
@@ -80,7 +88,7 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
                     let (v, dx) = unsafe { (velocities.slice(tile.range()), displacements.slice(tile.range())) };
                     isa.run(
                         #[inline(always)]
-                        || unsafe { gather::<F, S>(&pass, particles, tile.range(), cache, Some(tile.zone()), v, dx, true) },
+                        || unsafe { gather::<F, S, false>(&pass, particles, tile.range(), cache, Some(tile.zone()), v, dx, true) },
                     );
                 }
             }
@@ -99,7 +107,7 @@ pub(super) fn grid_to_particle<F: Formulation, S: ShapeFunction>(state: &mut Sta
 /// SAFETY: no other thread writes to the nodes this call writes to (see [`super::tiles`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-unsafe fn gather<F: Formulation, S: ShapeFunction>(
+unsafe fn gather<F: Formulation, S: ShapeFunction, const XPIC: bool>(
     pass: &Pass,
     particles: &Particles,
     range: std::ops::Range<usize>,
@@ -144,8 +152,7 @@ unsafe fn gather<F: Formulation, S: ShapeFunction>(
             });
             // The non-FLIP share: PIC, or XPIC(m) with Σ S (v* − v) added.
             let v_pic = match velocity_star {
-                None => v_grid,
-                Some(velocity_star) => {
+                Some(velocity_star) if XPIC => {
                     let mut filtered = v_grid;
                     S::visit_entries(&grid, &cache[i], &domain, F::AXISYMMETRIC, |node, w, _| {
                         let (vs, vo) = (velocity_star[node], velocity_old[node]);
@@ -154,6 +161,7 @@ unsafe fn gather<F: Formulation, S: ShapeFunction>(
                     });
                     filtered
                 }
+                _ => v_grid,
             };
             let v = *v_io;
             *v_io = [
