@@ -134,6 +134,9 @@ fn default_xpic_order() -> u32 {
 pub const XPIC_IS_EXPERIMENTAL: &str = "orders above 1 are experimental (measured on the cone penetration case, not \
     adopted: docs/studies/cone-rate.md): set simulation.experimental = true to use them";
 
+/// Why `xpic_order` above 1 is refused next to saturated bodies (the front end says the same).
+pub const XPIC_WITH_SATURATED: &str = "orders above 1 are not available for saturated (two-phase) runs";
+
 /// The highest XPIC order accepted (each order above 1 costs one more particle pass per step).
 pub const MAX_XPIC_ORDER: u32 = 8;
 
@@ -466,7 +469,7 @@ impl Config {
             return Err(format!("simulation.xpic_order: {XPIC_IS_EXPERIMENTAL}"));
         }
         if s.xpic_order > 1 && self.has_saturated_bodies() {
-            return Err("simulation.xpic_order above 1 is not available for saturated (two-phase) runs".into());
+            return Err(format!("simulation.xpic_order: {XPIC_WITH_SATURATED}"));
         }
         if !(0.0..1.0).contains(&s.damping) {
             return Err(format!("simulation.damping must be in [0, 1) (got {})", s.damping));

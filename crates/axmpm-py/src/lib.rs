@@ -386,6 +386,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(follow_errors, m)?)?;
     m.add("PENALTY_WITH_SATURATED", axmpm_core::config::PENALTY_WITH_SATURATED)?;
     m.add("XPIC_IS_EXPERIMENTAL", axmpm_core::config::XPIC_IS_EXPERIMENTAL)?;
+    m.add("XPIC_WITH_SATURATED", axmpm_core::config::XPIC_WITH_SATURATED)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

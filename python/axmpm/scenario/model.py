@@ -268,14 +268,15 @@ def cross_check_parts(
         axisymmetric = None if sim is None else sim.formulation == "axisymmetric"
         end_time = None if sim is None else sim.end_time
         errors.extend(rigid_body_errors(rigid_bodies, frame, axisymmetric, end_time, len(walls or [])))
+    saturated = any(b is not None and b.saturated is not None for b in bodies or [])
     if sim is not None and sim.xpic_order > 1:
         if not sim.experimental:
             errors.append(("simulation.xpic_order", core().XPIC_IS_EXPERIMENTAL))
-        if any(b is not None and b.saturated is not None for b in bodies or []):
-            errors.append(("simulation.xpic_order", "orders above 1 are not available for saturated (two-phase) runs"))
+        if saturated:
+            errors.append(("simulation.xpic_order", core().XPIC_WITH_SATURATED))
     if grid is not None and grid.follow is not None:
         errors.extend(_follow_errors(grid.follow, grid.experimental, materials, bodies, walls, rigid_bodies))
-    if any(b is not None and b.saturated is not None for b in bodies or []):
+    if saturated:
         errors.extend((f"rigid_bodies.{i}.contact", core().PENALTY_WITH_SATURATED)
                       for i, b in enumerate(rigid_bodies or []) if b is not None and b.contact == "penalty")
     if surcharges:
